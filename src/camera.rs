@@ -1,0 +1,104 @@
+//! The camera: image size, the world window on the image plane z = 0, and the eye.
+
+use crate::error::{Attr, ErrorKind};
+use crate::name::{Name, bounded};
+use crate::print;
+use crate::scalar::Scalar;
+use crate::vec3::Vec3;
+use core::fmt;
+
+/// A camera as written in a scene (or in Rust source): plain `f64` data.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraDef<'a> {
+    /// The camera's name.
+    pub name: &'a str,
+    /// Image size in pixels (width, height); each at least 2.
+    pub pixeldim: [u32; 2],
+    /// Size of the world window on the image plane; each above 0.
+    pub worlddim: [f64; 2],
+    /// The eye, where primary rays start.
+    pub viewpoint: [f64; 3],
+}
+
+impl<'a> CameraDef<'a> {
+    /// A camera definition.
+    pub const fn new(
+        name: &'a str,
+        pixeldim: [u32; 2],
+        worlddim: [f64; 2],
+        viewpoint: [f64; 3],
+    ) -> Self {
+        Self { name, pixeldim, worlddim, viewpoint }
+    }
+}
+
+/// The scene's camera, checked: at least 2 by 2 pixels, a positive world window.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Camera<S> {
+    name: Name,
+    width: u16,
+    height: u16,
+    world: [S; 2],
+    viewpoint: Vec3<S>,
+}
+
+impl<S: Scalar> Camera<S> {
+    /// Checks a definition; `max_width` is the widest row the build renders.
+    pub(crate) fn build(def: &CameraDef<'_>, max_width: usize) -> Result<Self, ErrorKind> {
+        let [width, height] = def.pixeldim;
+        if width < 2 || height < 2 {
+            return Err(ErrorKind::PixeldimTooSmall);
+        }
+        if usize::try_from(width).map_or(true, |w| w > max_width) || width > u32::from(u16::MAX) {
+            let max = u32::try_from(max_width).unwrap_or(u32::MAX).min(u32::from(u16::MAX));
+            return Err(ErrorKind::ImageTooWide { width, max });
+        }
+        let height = u16::try_from(height).map_err(|_| ErrorKind::ImageTooTall { height })?;
+        let width = u16::try_from(width).map_err(|_| ErrorKind::ImageTooWide {
+            width,
+            max: u32::from(u16::MAX),
+        })?;
+        crate::material::check_finite(&def.worlddim, Attr::Worlddim)?;
+        crate::material::check_finite(&def.viewpoint, Attr::Viewpoint)?;
+        if def.worlddim.iter().any(|&w| w <= 0.0) {
+            return Err(ErrorKind::NotPositive { attr: Attr::Worlddim });
+        }
+        Ok(Self {
+            name: bounded(def.name)?,
+            width,
+            height,
+            world: [S::from_f64(def.worlddim[0]), S::from_f64(def.worlddim[1])],
+            viewpoint: Vec3::from_f64(def.viewpoint),
+        })
+    }
+
+    /// The camera's name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+    /// Image width in pixels.
+    pub fn width(&self) -> u16 {
+        self.width
+    }
+    /// Image height in pixels.
+    pub fn height(&self) -> u16 {
+        self.height
+    }
+    /// The world window's size on the image plane.
+    pub fn world(&self) -> [S; 2] {
+        self.world
+    }
+    /// The eye.
+    pub fn viewpoint(&self) -> Vec3<S> {
+        self.viewpoint
+    }
+
+    /// Writes the camera block.
+    pub fn print(&self, out: &mut dyn fmt::Write) -> fmt::Result {
+        print::header(out, "camera", &self.name)?;
+        writeln!(out, "  {} {} {}", Attr::Pixeldim, self.width, self.height)?;
+        print::numbers(out, Attr::Worlddim, &self.world)?;
+        print::vector(out, Attr::Viewpoint, self.viewpoint)?;
+        print::footer(out)
+    }
+}

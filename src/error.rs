@@ -1,0 +1,719 @@
+//! The one error type: what went wrong, and where in the scene text.
+
+use core::fmt;
+
+/// A line and column in scene text, both counted from 1. Columns count characters.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Position {
+    /// Line, from 1.
+    pub line: u32,
+    /// Column in characters, from 1.
+    pub column: u32,
+}
+
+impl Position {
+    /// The position of byte `offset` in `text` (clamped to the end of the text).
+    pub fn of_offset(text: &[u8], offset: usize) -> Self {
+        let before = text.get(..offset).unwrap_or(text);
+        let line_start = before.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+        let lines = before.iter().filter(|&&b| b == b'\n').count();
+        // Characters, not bytes: count every byte that does not continue a UTF-8 sequence.
+        let columns = before
+            .get(line_start..)
+            .unwrap_or(&[])
+            .iter()
+            .filter(|&&b| b & 0xC0 != 0x80)
+            .count();
+        Self {
+            line: u32::try_from(lines.saturating_add(1)).unwrap_or(u32::MAX),
+            column: u32::try_from(columns.saturating_add(1)).unwrap_or(u32::MAX),
+        }
+    }
+}
+
+impl fmt::Display for Position {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}:{}", self.line, self.column)
+    }
+}
+
+/// An error from loading a scene: its kind, and where it is when the scene came from text.
+///
+/// Scenes built in Rust source (without the parser) have no position.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Error {
+    /// What went wrong.
+    pub kind: ErrorKind,
+    /// Where, for scenes read from text.
+    pub position: Option<Position>,
+}
+
+impl Error {
+    /// An error with no position (scene built in source).
+    pub const fn new(kind: ErrorKind) -> Self {
+        Self { kind, position: None }
+    }
+
+    /// An error at a position.
+    pub const fn at(kind: ErrorKind, position: Position) -> Self {
+        Self { kind, position: Some(position) }
+    }
+}
+
+impl From<ErrorKind> for Error {
+    fn from(kind: ErrorKind) -> Self {
+        Self::new(kind)
+    }
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.position {
+            Some(p) => write!(f, "{p}: {}", self.kind),
+            None => write!(f, "{}", self.kind),
+        }
+    }
+}
+
+#[cfg(feature = "std")]
+impl std::error::Error for Error {}
+
+/// The kinds of block in a scene file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[allow(missing_docs)]
+pub enum Entity {
+    Camera,
+    Material,
+    Light,
+    Spotlight,
+    Plane,
+    Sphere,
+    FPlane,
+    TiledPlane,
+    Texture,
+    TexPlane,
+}
+
+impl Entity {
+    /// Every entity, in the order the error messages list them.
+    pub const ALL: [Entity; 10] = [
+        Entity::Camera,
+        Entity::Material,
+        Entity::Light,
+        Entity::Spotlight,
+        Entity::Plane,
+        Entity::Sphere,
+        Entity::FPlane,
+        Entity::TiledPlane,
+        Entity::Texture,
+        Entity::TexPlane,
+    ];
+
+    /// The keyword that starts the block.
+    pub const fn keyword(self) -> &'static str {
+        match self {
+            Entity::Camera => "camera",
+            Entity::Material => "material",
+            Entity::Light => "light",
+            Entity::Spotlight => "spotlight",
+            Entity::Plane => "plane",
+            Entity::Sphere => "sphere",
+            Entity::FPlane => "fplane",
+            Entity::TiledPlane => "tiled_plane",
+            Entity::Texture => "texture",
+            Entity::TexPlane => "texplane",
+        }
+    }
+}
+
+impl fmt::Display for Entity {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.keyword())
+    }
+}
+
+/// The attributes inside blocks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[allow(missing_docs)]
+pub enum Attr {
+    Pixeldim,
+    Worlddim,
+    Viewpoint,
+    Ambient,
+    Diffuse,
+    Specular,
+    Shininess,
+    Transparency,
+    Location,
+    Emissivity,
+    Point,
+    Theta,
+    Material,
+    Normal,
+    Center,
+    Radius,
+    Xdir,
+    Dimensions,
+    Altmaterial,
+    Filename,
+    Texname,
+    Mode,
+}
+
+impl Attr {
+    /// The number of attributes.
+    pub const COUNT: usize = 22;
+
+    /// The attribute's keyword.
+    pub const fn keyword(self) -> &'static str {
+        match self {
+            Attr::Pixeldim => "pixeldim",
+            Attr::Worlddim => "worlddim",
+            Attr::Viewpoint => "viewpoint",
+            Attr::Ambient => "ambient",
+            Attr::Diffuse => "diffuse",
+            Attr::Specular => "specular",
+            Attr::Shininess => "shininess",
+            Attr::Transparency => "transparency",
+            Attr::Location => "location",
+            Attr::Emissivity => "emissivity",
+            Attr::Point => "point",
+            Attr::Theta => "theta",
+            Attr::Material => "material",
+            Attr::Normal => "normal",
+            Attr::Center => "center",
+            Attr::Radius => "radius",
+            Attr::Xdir => "xdir",
+            Attr::Dimensions => "dimensions",
+            Attr::Altmaterial => "altmaterial",
+            Attr::Filename => "filename",
+            Attr::Texname => "texname",
+            Attr::Mode => "mode",
+        }
+    }
+}
+
+impl fmt::Display for Attr {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.keyword())
+    }
+}
+
+/// The scene's bounded lists.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[allow(missing_docs)]
+pub enum Collection {
+    Objects,
+    Materials,
+    Lights,
+    Textures,
+}
+
+impl fmt::Display for Collection {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Collection::Objects => "objects",
+            Collection::Materials => "materials",
+            Collection::Lights => "lights",
+            Collection::Textures => "textures",
+        })
+    }
+}
+
+/// The allowed range of a value, for [`ErrorKind::OutOfRange`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Range {
+    /// `0 <= v <= 1`.
+    ZeroToOne,
+    /// `v >= 0`.
+    NonNegative,
+    /// `0 <= v <= 180` (degrees).
+    HalfTurn,
+    /// `0` or `1`.
+    ZeroOrOne,
+}
+
+impl fmt::Display for Range {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Range::ZeroToOne => "between 0 and 1",
+            Range::NonNegative => "0 or more",
+            Range::HalfTurn => "between 0 and 180 degrees",
+            Range::ZeroOrOne => "0 or 1",
+        })
+    }
+}
+
+/// What is wrong with a texture's image file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TextureError {
+    /// The file could not be found.
+    NotFound,
+    /// The file exists but could not be read.
+    Unreadable,
+    /// The file does not start with `P6` (binary PPM).
+    NotBinaryPpm,
+    /// The header's width, height or maximum value is missing or not a number.
+    BadHeader,
+    /// Width or height is zero or above 65535.
+    BadSize,
+    /// The maximum sample value is not 255 (microray reads 8-bit PPM only).
+    UnsupportedMaxValue,
+    /// The file ends before all pixels.
+    Truncated,
+}
+
+impl fmt::Display for TextureError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            TextureError::NotFound => "file not found",
+            TextureError::Unreadable => "file cannot be read",
+            TextureError::NotBinaryPpm => "not a binary PPM image (it must start with `P6`)",
+            TextureError::BadHeader => "malformed PPM header (expected width, height and 255)",
+            TextureError::BadSize => "image width and height must be 1 to 65535",
+            TextureError::UnsupportedMaxValue => "only 8-bit PPM images (maximum value 255) are supported",
+            TextureError::Truncated => "the file ends before the last pixel",
+        })
+    }
+}
+
+/// A short copy of the text an error is about (the found token, an undefined name).
+///
+/// Copied so that [`Error`] is `Copy` and needs no lifetime; long text is cut with `…`.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub struct Snippet {
+    bytes: [u8; Snippet::CAPACITY],
+    len: u8,
+    cut: bool,
+    end_of_input: bool,
+}
+
+impl Snippet {
+    const CAPACITY: usize = 32;
+
+    /// The end of the input, shown as "end of file".
+    pub const END: Snippet =
+        Snippet { bytes: [0; Self::CAPACITY], len: 0, cut: false, end_of_input: true };
+
+    /// A copy of (the start of) `text`.
+    pub fn new(text: &[u8]) -> Self {
+        let len = text.len().min(Self::CAPACITY);
+        let mut bytes = [0; Self::CAPACITY];
+        for (to, from) in bytes.iter_mut().zip(text) {
+            *to = *from;
+        }
+        // Never cut inside a UTF-8 sequence: back off to the start of the cut character.
+        let mut keep = len;
+        if text.len() > len {
+            while keep > 0 && bytes.get(keep).is_some_and(|b| b & 0xC0 == 0x80) {
+                keep -= 1;
+            }
+            if text.get(keep).is_some_and(|b| b & 0xC0 == 0x80) {
+                keep = len;
+            }
+        }
+        Self {
+            bytes,
+            len: u8::try_from(keep).unwrap_or(0),
+            cut: text.len() > keep,
+            end_of_input: false,
+        }
+    }
+
+    /// The copied bytes.
+    pub fn as_bytes(&self) -> &[u8] {
+        self.bytes.get(..usize::from(self.len)).unwrap_or(&[])
+    }
+
+    /// Whether this stands for the end of the input.
+    pub fn is_end(&self) -> bool {
+        self.end_of_input
+    }
+}
+
+impl fmt::Display for Snippet {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.end_of_input {
+            return f.write_str("end of file");
+        }
+        f.write_str("`")?;
+        for chunk in self.as_bytes().utf8_chunks() {
+            for c in chunk.valid().chars() {
+                if c.is_control() {
+                    write!(f, "{}", c.escape_default())?;
+                } else {
+                    write!(f, "{c}")?;
+                }
+            }
+            for b in chunk.invalid() {
+                write!(f, "\\x{b:02x}")?;
+            }
+        }
+        if self.cut {
+            f.write_str("…")?;
+        }
+        f.write_str("`")
+    }
+}
+
+impl fmt::Debug for Snippet {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fmt::Display::fmt(self, f)
+    }
+}
+
+/// What went wrong. The `Display` text is the message after `LINE:COL: error: `.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ErrorKind {
+    /// A block must start with an entity keyword.
+    UnknownEntity {
+        /// What was there instead.
+        found: Snippet,
+    },
+    /// The entity keyword must be followed by a name.
+    ExpectedName {
+        /// The block's kind.
+        entity: Entity,
+        /// What was there instead.
+        found: Snippet,
+    },
+    /// The name must be followed by `{`.
+    ExpectedOpenBrace {
+        /// The block's kind.
+        entity: Entity,
+        /// What was there instead.
+        found: Snippet,
+    },
+    /// A word inside a block that is not one of its attributes.
+    UnknownAttribute {
+        /// The block's kind.
+        entity: Entity,
+        /// The word.
+        found: Snippet,
+    },
+    /// An object's first attribute must be `material`, as in the course format.
+    MaterialNotFirst {
+        /// The block's kind.
+        entity: Entity,
+    },
+    /// The same attribute twice in one block.
+    DuplicateAttribute {
+        /// The attribute.
+        attr: Attr,
+    },
+    /// A required attribute is missing from a block.
+    MissingAttribute {
+        /// The block's kind.
+        entity: Entity,
+        /// The attribute.
+        attr: Attr,
+    },
+    /// Fewer values than the attribute takes.
+    MissingValues {
+        /// The attribute.
+        attr: Attr,
+        /// How many it takes.
+        expected: u8,
+        /// How many were there.
+        found: u8,
+        /// What came instead of the next value.
+        next: Snippet,
+    },
+    /// More values than the attribute takes.
+    ExtraValue {
+        /// The attribute.
+        attr: Attr,
+        /// How many it takes.
+        expected: u8,
+    },
+    /// A value that should be a number is not one.
+    NotANumber {
+        /// The attribute.
+        attr: Attr,
+        /// The text.
+        found: Snippet,
+    },
+    /// `nan`, `inf` and the like: microray reads finite decimals only.
+    NotFinite {
+        /// The text.
+        found: Snippet,
+    },
+    /// A value in a scene built in source that is NaN or infinite.
+    NonFiniteValue {
+        /// The attribute.
+        attr: Attr,
+    },
+    /// A number beyond the range of `f64`.
+    NumberTooLarge {
+        /// The text.
+        found: Snippet,
+    },
+    /// A value that must be a whole number is not one.
+    NotAnInteger {
+        /// The attribute.
+        attr: Attr,
+        /// The text.
+        found: Snippet,
+    },
+    /// A name or path attribute without its word.
+    ExpectedWord {
+        /// The attribute.
+        attr: Attr,
+        /// What was there instead.
+        found: Snippet,
+    },
+    /// The input ends inside a block.
+    UnclosedBlock {
+        /// The block's kind.
+        entity: Entity,
+        /// Where the block was opened.
+        opened: Position,
+    },
+    /// A control character outside a comment.
+    InvalidCharacter {
+        /// The byte.
+        byte: u8,
+    },
+    /// A name or path that is not valid UTF-8.
+    NotUtf8,
+    /// A name or path longer than its bounded buffer.
+    NameTooLong {
+        /// The most bytes it may have.
+        max: u16,
+    },
+    /// An object names a material that was not defined before it.
+    UndefinedMaterial {
+        /// `material` or `altmaterial`.
+        attr: Attr,
+        /// The name.
+        name: Snippet,
+    },
+    /// A textured plane names a texture that was not defined before it.
+    UndefinedTexture {
+        /// The name.
+        name: Snippet,
+    },
+    /// Two materials (or two textures) with the same name: references would be ambiguous.
+    DuplicateName {
+        /// The block's kind.
+        entity: Entity,
+        /// The name.
+        name: Snippet,
+    },
+    /// A scene has exactly one camera.
+    SecondCamera,
+    /// A scene has exactly one camera.
+    NoCamera,
+    /// A length that must be above zero (radius, world size, rectangle size).
+    NotPositive {
+        /// The attribute.
+        attr: Attr,
+    },
+    /// `pixeldim` needs at least 2 by 2: the camera divides by `pixeldim - 1`.
+    PixeldimTooSmall,
+    /// The image is wider than the row buffer this build renders with.
+    ImageTooWide {
+        /// The width asked for.
+        width: u32,
+        /// The most this build takes.
+        max: u32,
+    },
+    /// The image is taller than 65535 rows.
+    ImageTooTall {
+        /// The height asked for.
+        height: u32,
+    },
+    /// A direction that is zero (a zero normal, or a spotlight aimed at its own location).
+    ZeroVector {
+        /// The attribute.
+        attr: Attr,
+    },
+    /// `xdir` lies along the normal, so it gives no direction within the plane.
+    XdirParallelToNormal,
+    /// A value outside its allowed range.
+    OutOfRange {
+        /// The attribute.
+        attr: Attr,
+        /// The allowed range.
+        range: Range,
+    },
+    /// A transparent material filters light by its diffuse colour, so it needs one.
+    TransparentWithoutDiffuse,
+    /// A bounded list is full.
+    CapacityExceeded {
+        /// Which list.
+        what: Collection,
+        /// Its capacity in this build.
+        capacity: u16,
+    },
+    /// A texture's image file is missing or malformed.
+    Texture {
+        /// The file name.
+        file: Snippet,
+        /// What is wrong.
+        error: TextureError,
+    },
+}
+
+impl ErrorKind {
+    /// The attribute the error is about, if any (the parser points at it).
+    pub const fn attribute(&self) -> Option<Attr> {
+        match *self {
+            ErrorKind::NotPositive { attr }
+            | ErrorKind::ZeroVector { attr }
+            | ErrorKind::NonFiniteValue { attr }
+            | ErrorKind::UndefinedMaterial { attr, .. }
+            | ErrorKind::OutOfRange { attr, .. } => Some(attr),
+            ErrorKind::PixeldimTooSmall
+            | ErrorKind::ImageTooWide { .. }
+            | ErrorKind::ImageTooTall { .. } => Some(Attr::Pixeldim),
+            ErrorKind::XdirParallelToNormal => Some(Attr::Xdir),
+            ErrorKind::UndefinedTexture { .. } => Some(Attr::Texname),
+            ErrorKind::TransparentWithoutDiffuse => Some(Attr::Transparency),
+            ErrorKind::Texture { .. } => Some(Attr::Filename),
+            _ => None,
+        }
+    }
+}
+
+fn write_list(f: &mut fmt::Formatter<'_>, words: impl Iterator<Item = &'static str>) -> fmt::Result {
+    for (i, word) in words.enumerate() {
+        if i > 0 {
+            f.write_str(", ")?;
+        }
+        f.write_str(word)?;
+    }
+    Ok(())
+}
+
+impl fmt::Display for ErrorKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            ErrorKind::UnknownEntity { found } => {
+                write!(f, "expected an entity (")?;
+                write_list(f, Entity::ALL.iter().map(|e| e.keyword()))?;
+                write!(f, "), found {found}")
+            }
+            ErrorKind::ExpectedName { entity, found } => {
+                write!(f, "expected a name after `{entity}`, found {found}")
+            }
+            ErrorKind::ExpectedOpenBrace { entity, found } => {
+                write!(f, "expected `{{` to open the {entity} block, found {found}")
+            }
+            ErrorKind::UnknownAttribute { entity, found } => {
+                write!(f, "unknown attribute {found} in {entity} (expected ")?;
+                write_list(f, crate::parse::attributes_of(entity).iter().map(|a| a.keyword()))?;
+                write!(f, " or `}}`)")
+            }
+            ErrorKind::MaterialNotFirst { entity } => {
+                write!(f, "expected `material` as the first attribute of {entity}")
+            }
+            ErrorKind::DuplicateAttribute { attr } => {
+                write!(f, "`{attr}` is given twice in this block")
+            }
+            ErrorKind::MissingAttribute { entity, attr } => {
+                write!(f, "{entity} is missing `{attr}`")
+            }
+            ErrorKind::MissingValues { attr, expected, found, next } => {
+                let s = if expected == 1 { "" } else { "s" };
+                write!(f, "`{attr}` takes {expected} number{s}, found {found} before {next}")
+            }
+            ErrorKind::ExtraValue { attr, expected } => {
+                let s = if expected == 1 { "" } else { "s" };
+                write!(f, "extra value: `{attr}` takes {expected} number{s}")
+            }
+            ErrorKind::NotANumber { attr, found } => {
+                write!(f, "expected a number for `{attr}`, found {found}")
+            }
+            ErrorKind::NotFinite { found } => {
+                write!(f, "{found} is not a finite number (scene files hold finite decimals)")
+            }
+            ErrorKind::NonFiniteValue { attr } => {
+                write!(f, "`{attr}` has a value that is not finite")
+            }
+            ErrorKind::NumberTooLarge { found } => {
+                write!(f, "{found} is out of range (beyond ±1.8e308)")
+            }
+            ErrorKind::NotAnInteger { attr, found } => {
+                write!(f, "`{attr}` takes whole numbers, found {found}")
+            }
+            ErrorKind::ExpectedWord { attr, found } => {
+                let what = if matches!(attr, Attr::Filename) { "a file name" } else { "a name" };
+                write!(f, "expected {what} after `{attr}`, found {found}")
+            }
+            ErrorKind::UnclosedBlock { entity, opened } => {
+                write!(f, "expected `}}` to close the {entity} block opened at {opened}, found end of file")
+            }
+            ErrorKind::InvalidCharacter { byte } => {
+                write!(f, "invalid character 0x{byte:02x} (control characters are allowed only in comments)")
+            }
+            ErrorKind::NotUtf8 => write!(f, "names and file names must be valid UTF-8"),
+            ErrorKind::NameTooLong { max } => write!(f, "name is longer than {max} bytes"),
+            ErrorKind::UndefinedMaterial { name, .. } => {
+                write!(f, "undefined material {name} (materials must be defined before the objects that use them)")
+            }
+            ErrorKind::UndefinedTexture { name } => {
+                write!(f, "undefined texture {name} (textures must be defined before the planes that use them)")
+            }
+            ErrorKind::DuplicateName { entity, name } => {
+                write!(f, "a {entity} named {name} is already defined")
+            }
+            ErrorKind::SecondCamera => write!(f, "second camera (a scene has exactly one)"),
+            ErrorKind::NoCamera => write!(f, "no camera (a scene needs exactly one `camera` block)"),
+            ErrorKind::NotPositive { attr } => write!(f, "`{attr}` must be greater than 0"),
+            ErrorKind::PixeldimTooSmall => {
+                write!(f, "`pixeldim` must be at least 2 by 2 (pixels map through pixeldim - 1)")
+            }
+            ErrorKind::ImageTooWide { width, max } => {
+                write!(f, "image is {width} pixels wide; this build's row buffer holds {max}")
+            }
+            ErrorKind::ImageTooTall { height } => {
+                write!(f, "image is {height} pixels tall; at most 65535 rows are supported")
+            }
+            ErrorKind::ZeroVector { attr } => {
+                if matches!(attr, Attr::Point) {
+                    write!(f, "spotlight `point` equals its `location`, so it has no direction")
+                } else {
+                    write!(f, "`{attr}` must not be the zero vector")
+                }
+            }
+            ErrorKind::XdirParallelToNormal => {
+                write!(f, "`xdir` is parallel to the normal, so it gives no direction in the plane")
+            }
+            ErrorKind::OutOfRange { attr, range } => write!(f, "`{attr}` must be {range}"),
+            ErrorKind::TransparentWithoutDiffuse => write!(
+                f,
+                "a transparent material needs a positive `diffuse` (it filters light by the diffuse colour)"
+            ),
+            ErrorKind::CapacityExceeded { what, capacity } => {
+                write!(f, "too many {what}: this build holds {capacity}")
+            }
+            ErrorKind::Texture { file, error } => write!(f, "texture file {file}: {error}"),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn positions_count_lines_and_characters() {
+        let text = "ab\ncé d\n".as_bytes();
+        assert_eq!(Position::of_offset(text, 0), Position { line: 1, column: 1 });
+        assert_eq!(Position::of_offset(text, 3), Position { line: 2, column: 1 });
+        // `d` is byte 7 but character 4 of line 2 (é is two bytes).
+        assert_eq!(Position::of_offset(text, 7), Position { line: 2, column: 4 });
+        assert_eq!(Position::of_offset(text, 99), Position { line: 3, column: 1 });
+    }
+
+    #[test]
+    fn snippets_cut_long_text_on_character_boundaries() {
+        let long = "é".repeat(40);
+        let s = Snippet::new(long.as_bytes());
+        assert_eq!(s.as_bytes().len(), 32);
+        assert_eq!(std::format!("{s}"), std::format!("`{}…`", "é".repeat(16)));
+        assert_eq!(std::format!("{}", Snippet::new(b"a\x00\xff")), "`a\\u{0}\\xff`");
+        assert_eq!(std::format!("{}", Snippet::END), "end of file");
+    }
+}

@@ -1,0 +1,83 @@
+//! # microray
+//!
+//! A `no_std` ray tracer for microcontroller displays. It reads the scene files of a classic
+//! university course ray tracer, keeps the C design's objects with `hits`/`printer` function
+//! pointers (in safe Rust: a `'static` table of `fn` pointers per object kind), and computes
+//! in any [`Scalar`] number type from one source. The library allocates nothing: every list is
+//! a [`heapless::Vec`] whose capacity is part of the [`Scene`] type, and running out of room is
+//! an [`Error`], never a panic.
+//!
+//! ```
+//! use microray::{parse::parse_scene, print::print_scene, Scene};
+//!
+//! let text = b"
+//!     camera cam { pixeldim 64 48 worlddim 8 6 viewpoint 4 3 3 }
+//!     material white { diffuse 3 3 3 ambient 1 1 1 }
+//!     plane floor { material white normal 0 1 0 point 0 0 0 }
+//!     light top { location 4 10 0 emissivity 5 5 5 }
+//! ";
+//! let scene: Scene<f32> = parse_scene(text, microray::parse::no_textures)?;
+//! assert_eq!(scene.objects().len(), 1);
+//!
+//! let mut out = heapless::String::<512>::new();
+//! print_scene(&scene, &mut out).map_err(|_| "printer ran out of room")?;
+//! assert!(out.starts_with("camera cam\n{\n  pixeldim 64 48\n"));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! ## Features
+//! | feature | default | what it adds |
+//! |---|---|---|
+//! | `std` | yes | the `microray` command-line tracer and file-based texture loading ([`host`]) |
+//!
+//! Without default features the crate is `#![no_std]`, has no `alloc`, and builds for
+//! `thumbv6m-none-eabi`, `thumbv7em-none-eabihf` and `riscv32imc-unknown-none-elf`.
+//!
+//! ## Layout
+//! One concept per module: [`scalar`], [`vec3`], [`ray`], [`camera`], [`material`], [`light`],
+//! [`texture`], [`object`] (one file per kind), [`scene`], [`parse`], [`print`], [`error`].
+#![cfg_attr(not(feature = "std"), no_std)]
+#![forbid(unsafe_code)]
+#![deny(missing_docs)]
+#![warn(missing_debug_implementations, rust_2018_idioms, unreachable_pub)]
+// The library must not panic on any input: these lints keep panicking shortcuts out of it.
+#![cfg_attr(
+    not(test),
+    deny(
+        clippy::unwrap_used,
+        clippy::expect_used,
+        clippy::panic,
+        clippy::unreachable,
+        clippy::todo,
+        clippy::unimplemented,
+        clippy::indexing_slicing
+    )
+)]
+
+pub mod camera;
+pub mod error;
+pub mod light;
+pub mod material;
+pub mod name;
+pub mod object;
+pub mod parse;
+pub mod print;
+pub mod ray;
+pub mod scalar;
+pub mod scene;
+pub mod texture;
+pub mod vec3;
+
+#[cfg(feature = "std")]
+pub mod host;
+
+pub use camera::{Camera, CameraDef};
+pub use error::{Error, ErrorKind, Position};
+pub use light::{Light, LightDef};
+pub use material::{Material, MaterialDef};
+pub use object::{Hit, Object, ObjectDef, ObjectVTable};
+pub use ray::Ray;
+pub use scalar::Scalar;
+pub use scene::{Scene, SceneBuilder};
+pub use texture::{Texture, TextureDef};
+pub use vec3::Vec3;

@@ -1,0 +1,149 @@
+//! Lights: point lights and spotlights.
+
+use crate::error::{Attr, ErrorKind, Range};
+use crate::material::check_finite;
+use crate::name::{Name, bounded};
+use crate::print;
+use crate::scalar::Scalar;
+use crate::vec3::Vec3;
+use core::fmt;
+
+/// The cone of a spotlight as written.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpotDef {
+    /// A point the cone's axis passes through.
+    pub point: [f64; 3],
+    /// Half-angle of the cone in degrees, 0 to 180.
+    pub theta: f64,
+}
+
+/// A light as written.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightDef<'a> {
+    /// The light's name.
+    pub name: &'a str,
+    /// Where it is.
+    pub location: [f64; 3],
+    /// What it emits (r, g, b).
+    pub emissivity: [f64; 3],
+    /// The cone, for a spotlight.
+    pub spot: Option<SpotDef>,
+}
+
+impl<'a> LightDef<'a> {
+    /// A point light.
+    pub const fn point(name: &'a str, location: [f64; 3], emissivity: [f64; 3]) -> Self {
+        Self { name, location, emissivity, spot: None }
+    }
+
+    /// A spotlight aimed at `point` with half-angle `theta` degrees.
+    pub const fn spot(
+        name: &'a str,
+        location: [f64; 3],
+        emissivity: [f64; 3],
+        point: [f64; 3],
+        theta: f64,
+    ) -> Self {
+        Self { name, location, emissivity, spot: Some(SpotDef { point, theta }) }
+    }
+}
+
+/// A spotlight's cone, with its axis and `cos(theta)` precomputed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spot<S> {
+    /// The point written in the scene.
+    pub point: Vec3<S>,
+    /// The half-angle written in the scene, in degrees.
+    pub theta: S,
+    /// `unit(point - location)`.
+    pub axis: Vec3<S>,
+    /// `cos(theta)`: a hit is lit when the direction to it is within the cone.
+    pub cos_theta: S,
+}
+
+/// A checked light.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Light<S> {
+    name: Name,
+    /// Where it is.
+    pub location: Vec3<S>,
+    /// What it emits.
+    pub emissivity: Vec3<S>,
+    /// The cone, for a spotlight.
+    pub spot: Option<Spot<S>>,
+}
+
+impl<S: Scalar> Light<S> {
+    /// Checks a definition.
+    pub(crate) fn build(def: &LightDef<'_>) -> Result<Self, ErrorKind> {
+        check_finite(&def.location, Attr::Location)?;
+        check_finite(&def.emissivity, Attr::Emissivity)?;
+        let location = Vec3::<S>::from_f64(def.location);
+        let spot = match def.spot {
+            None => None,
+            Some(cone) => {
+                check_finite(&cone.point, Attr::Point)?;
+                check_finite(&[cone.theta], Attr::Theta)?;
+                if !(0.0..=180.0).contains(&cone.theta) {
+                    return Err(ErrorKind::OutOfRange { attr: Attr::Theta, range: Range::HalfTurn });
+                }
+                let point = Vec3::<S>::from_f64(cone.point);
+                let theta = S::from_f64(cone.theta);
+                let axis = (point.to_f64() - location.to_f64())
+                    .unit_f64()
+                    .ok_or(ErrorKind::ZeroVector { attr: Attr::Point })?;
+                let cos_theta = libm::cos(theta.to_f64() * (core::f64::consts::PI / 180.0));
+                Some(Spot { point, theta, axis: axis.cast(), cos_theta: S::from_f64(cos_theta) })
+            }
+        };
+        Ok(Self {
+            name: bounded(def.name)?,
+            location,
+            emissivity: Vec3::from_f64(def.emissivity),
+            spot,
+        })
+    }
+
+    /// The light's name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Writes the light or spotlight block.
+    pub fn print(&self, out: &mut dyn fmt::Write) -> fmt::Result {
+        let keyword = if self.spot.is_some() { "spotlight" } else { "light" };
+        print::header(out, keyword, &self.name)?;
+        print::vector(out, Attr::Location, self.location)?;
+        print::vector(out, Attr::Emissivity, self.emissivity)?;
+        if let Some(spot) = &self.spot {
+            print::vector(out, Attr::Point, spot.point)?;
+            print::numbers(out, Attr::Theta, &[spot.theta])?;
+        }
+        print::footer(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spotlight_axis_and_cone() {
+        let def = LightDef::spot("s", [0.0, 4.0, 0.0], [1.0; 3], [0.0, 0.0, 0.0], 60.0);
+        let light = Light::<f64>::build(&def).unwrap();
+        let spot = light.spot.unwrap();
+        assert_eq!(spot.axis, Vec3::new(0.0, -1.0, 0.0));
+        assert!((spot.cos_theta - 0.5).abs() < 1e-15);
+    }
+
+    #[test]
+    fn spotlight_aimed_at_itself_is_an_error() {
+        let def = LightDef::spot("s", [1.0; 3], [1.0; 3], [1.0; 3], 10.0);
+        assert_eq!(Light::<f32>::build(&def), Err(ErrorKind::ZeroVector { attr: Attr::Point }));
+        let wide = LightDef::spot("s", [1.0; 3], [1.0; 3], [0.0; 3], 181.0);
+        assert_eq!(
+            Light::<f32>::build(&wide),
+            Err(ErrorKind::OutOfRange { attr: Attr::Theta, range: Range::HalfTurn })
+        );
+    }
+}

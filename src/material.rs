@@ -1,0 +1,191 @@
+//! Materials: plain data that objects refer to by index.
+
+use crate::error::{Attr, ErrorKind, Range};
+use crate::name::{Name, bounded};
+use crate::print;
+use crate::scalar::Scalar;
+use crate::vec3::Vec3;
+use core::fmt;
+
+/// Index of a material in its scene.
+pub type MaterialId = u16;
+
+/// A material as written; attributes left out are zero, as in the course.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MaterialDef<'a> {
+    /// The name objects refer to it by.
+    pub name: &'a str,
+    /// Ambient reflectivity (r, g, b).
+    pub ambient: [f64; 3],
+    /// Diffuse reflectivity (r, g, b).
+    pub diffuse: [f64; 3],
+    /// Mirror reflectivity, 0 or more.
+    pub specular: f64,
+    /// Glint exponent (Blinn-Phong), 0 for no glint.
+    pub shininess: f64,
+    /// Fraction of light passed through, 0 to 1.
+    pub transparency: f64,
+}
+
+impl<'a> MaterialDef<'a> {
+    /// A black material; set its attributes with the builder methods.
+    pub const fn new(name: &'a str) -> Self {
+        Self {
+            name,
+            ambient: [0.0; 3],
+            diffuse: [0.0; 3],
+            specular: 0.0,
+            shininess: 0.0,
+            transparency: 0.0,
+        }
+    }
+    /// With an ambient colour.
+    pub const fn ambient(mut self, rgb: [f64; 3]) -> Self {
+        self.ambient = rgb;
+        self
+    }
+    /// With a diffuse colour.
+    pub const fn diffuse(mut self, rgb: [f64; 3]) -> Self {
+        self.diffuse = rgb;
+        self
+    }
+    /// With a mirror reflectivity.
+    pub const fn specular(mut self, k: f64) -> Self {
+        self.specular = k;
+        self
+    }
+    /// With a glint exponent.
+    pub const fn shininess(mut self, k: f64) -> Self {
+        self.shininess = k;
+        self
+    }
+    /// With a transparency.
+    pub const fn transparency(mut self, k: f64) -> Self {
+        self.transparency = k;
+        self
+    }
+}
+
+/// A checked material, with the transmission filter precomputed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material<S> {
+    name: Name,
+    /// Ambient reflectivity.
+    pub ambient: Vec3<S>,
+    /// Diffuse reflectivity.
+    pub diffuse: Vec3<S>,
+    /// Mirror reflectivity.
+    pub specular: S,
+    /// Glint exponent.
+    pub shininess: S,
+    /// Fraction of light passed through.
+    pub transparency: S,
+    /// What light passing through is multiplied by: `(tr / max(diffuse)) * diffuse`.
+    pub filter: Vec3<S>,
+}
+
+/// Every value finite, or a [`ErrorKind::NotFinite`]-like error naming the attribute.
+pub(crate) fn check_finite(values: &[f64], attr: Attr) -> Result<(), ErrorKind> {
+    if values.iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(ErrorKind::NonFiniteValue { attr })
+    }
+}
+
+impl<S: Scalar> Material<S> {
+    /// Checks a definition.
+    pub(crate) fn build(def: &MaterialDef<'_>) -> Result<Self, ErrorKind> {
+        check_finite(&def.ambient, Attr::Ambient)?;
+        check_finite(&def.diffuse, Attr::Diffuse)?;
+        check_finite(&[def.specular], Attr::Specular)?;
+        check_finite(&[def.shininess], Attr::Shininess)?;
+        check_finite(&[def.transparency], Attr::Transparency)?;
+        if def.specular < 0.0 {
+            return Err(ErrorKind::OutOfRange { attr: Attr::Specular, range: Range::NonNegative });
+        }
+        if def.shininess < 0.0 {
+            return Err(ErrorKind::OutOfRange { attr: Attr::Shininess, range: Range::NonNegative });
+        }
+        if !(0.0..=1.0).contains(&def.transparency) {
+            return Err(ErrorKind::OutOfRange { attr: Attr::Transparency, range: Range::ZeroToOne });
+        }
+        let ambient = Vec3::<S>::from_f64(def.ambient);
+        let diffuse = Vec3::<S>::from_f64(def.diffuse);
+        let transparency = S::from_f64(def.transparency);
+        // Computed from the stored values so that a printed and re-read scene is equal.
+        let diffuse64 = diffuse.to_f64();
+        let strongest = diffuse64.max_component();
+        let tr = transparency.to_f64();
+        let filter = if tr == 0.0 {
+            Vec3::ZERO
+        } else if strongest > 0.0 {
+            (diffuse64 * (tr / strongest)).cast()
+        } else {
+            return Err(ErrorKind::TransparentWithoutDiffuse);
+        };
+        Ok(Self {
+            name: bounded(def.name)?,
+            ambient,
+            diffuse,
+            specular: S::from_f64(def.specular),
+            shininess: S::from_f64(def.shininess),
+            transparency,
+            filter,
+        })
+    }
+
+    /// The material's name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Writes the material block; zero attributes other than the colours are left out.
+    pub fn print(&self, out: &mut dyn fmt::Write) -> fmt::Result {
+        print::header(out, "material", &self.name)?;
+        print::vector(out, Attr::Ambient, self.ambient)?;
+        print::vector(out, Attr::Diffuse, self.diffuse)?;
+        for (attr, value) in [
+            (Attr::Specular, self.specular),
+            (Attr::Shininess, self.shininess),
+            (Attr::Transparency, self.transparency),
+        ] {
+            if value != S::ZERO {
+                print::numbers(out, attr, &[value])?;
+            }
+        }
+        print::footer(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn filter_is_transparency_over_strongest_diffuse() {
+        let m = Material::<f64>::build(&MaterialDef::new("g").diffuse([0.0, 8.0, 2.0]).transparency(0.6))
+            .unwrap();
+        assert_eq!(m.filter, Vec3::new(0.0, 0.6, 0.15));
+    }
+
+    #[test]
+    fn ranges_are_checked() {
+        let bad = [
+            (MaterialDef::new("a").transparency(1.5), Attr::Transparency),
+            (MaterialDef::new("a").shininess(-1.0), Attr::Shininess),
+            (MaterialDef::new("a").specular(-0.1), Attr::Specular),
+        ];
+        for (def, attr) in bad {
+            assert_eq!(Material::<f32>::build(&def).unwrap_err().attribute(), Some(attr));
+        }
+        assert_eq!(
+            Material::<f32>::build(&MaterialDef::new("a").transparency(0.5)),
+            Err(ErrorKind::TransparentWithoutDiffuse)
+        );
+        assert_eq!(
+            Material::<f32>::build(&MaterialDef::new("a").ambient([f64::NAN, 0.0, 0.0])),
+            Err(ErrorKind::NonFiniteValue { attr: Attr::Ambient })
+        );
+    }
+}

@@ -1,0 +1,197 @@
+//! The finite plane (`fplane`): a rectangle on a plane, and the in-plane axes that the tiled
+//! and textured planes share.
+
+use super::{
+    Hit, Object, ObjectVTable, Palette, Shape, object_ambient, object_diffuse, object_material,
+    object_print, object_specular,
+};
+use crate::error::{Attr, Entity, ErrorKind};
+use crate::material::{MaterialId, check_finite};
+use crate::object::plane::{Plane, PlaneDef};
+use crate::print;
+use crate::ray::Ray;
+use crate::scalar::Scalar;
+use crate::vec3::Vec3;
+use core::fmt;
+
+/// A rectangle as written: a plane, the direction of its x axis, and its size.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RectDef {
+    /// The normal.
+    pub normal: [f64; 3],
+    /// The rectangle's corner (local origin).
+    pub point: [f64; 3],
+    /// The x axis before projection onto the plane (must not be along the normal).
+    pub xdir: [f64; 3],
+    /// Width and height along the local x and y axes.
+    pub dimensions: [f64; 2],
+}
+
+impl RectDef {
+    /// A rectangle definition.
+    pub const fn new(normal: [f64; 3], point: [f64; 3], xdir: [f64; 3], dimensions: [f64; 2]) -> Self {
+        Self { normal, point, xdir, dimensions }
+    }
+}
+
+/// A plane with in-plane axes: the rows `(u, v, n)` of the rotation `R` into plane
+/// coordinates, `u = unit(xdir projected onto the plane)`, `v = n x u`, computed at load.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rect<S> {
+    /// The plane.
+    pub plane: Plane<S>,
+    /// `xdir` as written.
+    pub xdir: Vec3<S>,
+    /// Width and height.
+    pub dimensions: [S; 2],
+    /// Local x axis.
+    pub u: Vec3<S>,
+    /// Local y axis.
+    pub v: Vec3<S>,
+}
+
+impl<S: Scalar> Rect<S> {
+    /// Checks a definition: a plane's checks, `xdir` not along the normal, positive size.
+    pub(crate) fn build(def: &RectDef) -> Result<Self, ErrorKind> {
+        let plane = Plane::build(&PlaneDef { normal: def.normal, point: def.point })?;
+        check_finite(&def.xdir, Attr::Xdir)?;
+        check_finite(&def.dimensions, Attr::Dimensions)?;
+        let xdir = Vec3::<S>::from_f64(def.xdir);
+        let dimensions = [S::from_f64(def.dimensions[0]), S::from_f64(def.dimensions[1])];
+        if dimensions.iter().any(|&d| d <= S::ZERO) || def.dimensions.iter().any(|&d| d <= 0.0) {
+            return Err(ErrorKind::NotPositive { attr: Attr::Dimensions });
+        }
+        let n = plane.unit_normal.to_f64();
+        let x = xdir.to_f64();
+        if x.is_zero() {
+            return Err(ErrorKind::ZeroVector { attr: Attr::Xdir });
+        }
+        // Parallel when the sine of the angle to the written normal is at rounding level:
+        // the projection below would then be rounding noise, not a direction.
+        let written = plane.normal.to_f64();
+        let sine = libm::sqrt(written.cross(x).dot(written.cross(x)))
+            / libm::sqrt(written.dot(written) * x.dot(x));
+        if !(sine > 1e-12) {
+            return Err(ErrorKind::XdirParallelToNormal);
+        }
+        let u = (x - n * x.dot(n)).unit_f64().ok_or(ErrorKind::XdirParallelToNormal)?;
+        let v = n.cross(u);
+        Ok(Self { plane, xdir, dimensions, u: u.cast(), v: v.cast() })
+    }
+
+    /// `(u, v) . (p - point)`: a point's coordinates within the rectangle.
+    #[inline]
+    pub fn local(&self, p: Vec3<S>) -> [S; 2] {
+        let d = p - self.plane.point;
+        [self.u.dot(d), self.v.dot(d)]
+    }
+
+    /// The plane's hit, if it lies within `0 <= q <= dimensions`.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray<S>) -> Option<Hit<S>> {
+        let hit = self.plane.intersect(ray)?;
+        let [qx, qy] = self.local(hit.point);
+        let [w, h] = self.dimensions;
+        (qx >= S::ZERO && qx <= w && qy >= S::ZERO && qy <= h).then_some(hit)
+    }
+
+    /// Writes the plane's attributes, `xdir` and `dimensions`.
+    pub(crate) fn print_attributes(&self, out: &mut dyn fmt::Write) -> fmt::Result {
+        self.plane.print_attributes(out)?;
+        print::vector(out, Attr::Xdir, self.xdir)?;
+        print::numbers(out, Attr::Dimensions, &self.dimensions)
+    }
+
+    /// The fplane kind's function table.
+    pub const VTABLE: ObjectVTable<S> = ObjectVTable {
+        kind: Entity::FPlane,
+        hits: fplane_hits,
+        printer: fplane_print,
+        material: object_material,
+        ambient: object_ambient,
+        diffuse: object_diffuse,
+        specular: object_specular,
+    };
+}
+
+/// Builds a finite plane and installs its table.
+pub fn fplane_init<S: Scalar>(
+    name: &str,
+    material: MaterialId,
+    def: &RectDef,
+) -> Result<Object<S>, ErrorKind> {
+    Object::init(&Rect::VTABLE, name, material, Shape::FPlane(Rect::build(def)?))
+}
+
+/// `hits` of a finite plane.
+pub fn fplane_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>) -> Option<Hit<S>> {
+    match obj.shape() {
+        Shape::FPlane(rect) => rect.intersect(ray),
+        _ => None,
+    }
+}
+
+/// `printer` of a finite plane.
+pub fn fplane_print<S: Scalar>(
+    obj: &Object<S>,
+    palette: &Palette<'_, S>,
+    out: &mut dyn fmt::Write,
+) -> fmt::Result {
+    object_print(obj, palette, out)?;
+    if let Shape::FPlane(rect) = obj.shape() {
+        rect.print_attributes(out)?;
+    }
+    print::footer(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::object::test_support::ray;
+
+    fn tilted() -> RectDef {
+        // fplane1's rectangle: 6 x 3 on the plane y + z = -3, corner (1, 0, -3).
+        RectDef::new([0.0, 1.0, 1.0], [1.0, 0.0, -3.0], [1.0, 0.0, 0.0], [6.0, 3.0])
+    }
+
+    #[test]
+    fn axes_are_orthonormal_rows() {
+        let r = Rect::<f64>::build(&tilted()).unwrap();
+        assert_eq!(r.u, Vec3::new(1.0, 0.0, 0.0));
+        let s = core::f64::consts::FRAC_1_SQRT_2;
+        assert!((r.v - Vec3::new(0.0, s, -s)).length() < 1e-15);
+        assert!(r.u.dot(r.v).abs() < 1e-15 && r.v.dot(r.plane.unit_normal).abs() < 1e-15);
+    }
+
+    #[test]
+    fn hits_inside_only() {
+        let obj: Object<f64> = fplane_init("f", 0, &tilted()).unwrap();
+        let Shape::FPlane(rect) = obj.shape() else { panic!("not an fplane") };
+        // Local (1, sqrt 2) is the world point (2, 1, -4).
+        let hit = obj.hits(&ray([2.0, 3.0, -2.0], [0.0, -1.0, -1.0])).unwrap();
+        assert!((hit.point - Vec3::new(2.0, 1.0, -4.0)).length() < 1e-12);
+        let [qx, qy] = rect.local(hit.point);
+        assert!((qx - 1.0).abs() < 1e-12 && (qy - 2f64.sqrt()).abs() < 1e-12);
+        // The same ray moved beyond the width (x = 7.5) or before the corner (x = 0.5).
+        assert_eq!(obj.hits(&ray([7.5, 3.0, -2.0], [0.0, -1.0, -1.0])), None);
+        assert_eq!(obj.hits(&ray([0.5, 3.0, -2.0], [0.0, -1.0, -1.0])), None);
+        // Beyond the height: local y = 3.5 is the point (2, 2.47, -5.47).
+        assert_eq!(obj.hits(&ray([2.0, 6.0, -2.0], [0.0, -1.0, -1.0])), None);
+        // The infinite plane under it is hit there.
+        assert!(rect.plane.intersect(&ray([2.0, 6.0, -2.0], [0.0, -1.0, -1.0])).is_some());
+    }
+
+    #[test]
+    fn degenerate_axes_are_errors() {
+        let mut def = tilted();
+        def.xdir = [0.0, 2.0, 2.0];
+        assert_eq!(Rect::<f64>::build(&def), Err(ErrorKind::XdirParallelToNormal));
+        def.xdir = [0.0, 0.1, 0.1];
+        assert_eq!(Rect::<f64>::build(&def), Err(ErrorKind::XdirParallelToNormal));
+        def.xdir = [0.0; 3];
+        assert_eq!(Rect::<f64>::build(&def), Err(ErrorKind::ZeroVector { attr: Attr::Xdir }));
+        def = tilted();
+        def.dimensions = [6.0, 0.0];
+        assert_eq!(Rect::<f64>::build(&def), Err(ErrorKind::NotPositive { attr: Attr::Dimensions }));
+    }
+}

@@ -1,0 +1,365 @@
+//! Objects, as in the C design: each carries a pointer to a table of functions (`hits`,
+//! `printer`, and the surface look-ups), installed by its kind's constructor the way the
+//! course's `plane_init` does `obj->hits = plane_hits`.
+//!
+//! The table is a `'static` [`ObjectVTable`] of plain `fn` pointers, so dispatch is one
+//! indirect call, as in C, and needs no `unsafe`. A kind's data lives in [`Shape`]; the
+//! constructor that installs a table also stores the matching data, so they cannot disagree.
+//! The defaults are real functions like the C `object_print` and the no-hit function, and a
+//! kind's printer calls the common [`object_print`] first.
+
+pub mod fplane;
+pub mod plane;
+pub mod sphere;
+pub mod texplane;
+pub mod tiled_plane;
+
+use crate::camera::Camera;
+use crate::error::{Attr, Entity, ErrorKind, Snippet};
+use crate::material::{Material, MaterialId};
+use crate::name::{Name, bounded};
+use crate::print;
+use crate::ray::Ray;
+use crate::scalar::Scalar;
+use crate::texture::Texture;
+use crate::vec3::Vec3;
+use core::fmt;
+
+pub use fplane::{Rect, RectDef};
+pub use plane::{Plane, PlaneDef};
+pub use sphere::{Sphere, SphereDef};
+pub use texplane::{TexPlane, TextureMode};
+pub use tiled_plane::TiledPlane;
+
+/// Where a ray meets a surface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit<S> {
+    /// The ray parameter, always above zero.
+    pub t: S,
+    /// The hit point.
+    pub point: Vec3<S>,
+    /// The unit surface normal there.
+    pub normal: Vec3<S>,
+}
+
+/// What the surface look-ups and printers need from the scene besides the object itself.
+#[derive(Clone, Copy, Debug)]
+pub struct Palette<'s, S> {
+    /// The scene's materials, indexed by [`MaterialId`].
+    pub materials: &'s [Material<S>],
+    /// The scene's textures.
+    pub textures: &'s [Texture<'s>],
+    /// The camera (textures in [`TextureMode::Tile`] are laid out in its pixel units).
+    pub camera: &'s Camera<S>,
+}
+
+impl<S: Scalar> Palette<'_, S> {
+    /// A material by index.
+    pub fn material(&self, id: MaterialId) -> Option<&Material<S>> {
+        self.materials.get(usize::from(id))
+    }
+}
+
+/// The function table of an object kind: the C `object_t`'s function pointers.
+#[derive(Debug)]
+pub struct ObjectVTable<S: Scalar> {
+    /// The kind, for the printer's keyword.
+    pub kind: Entity,
+    /// The nearest hit of a ray with `t > 0` and the z rule applied.
+    pub hits: fn(&Object<S>, &Ray<S>) -> Option<Hit<S>>,
+    /// Writes the object's block in scene text.
+    pub printer: fn(&Object<S>, &Palette<'_, S>, &mut dyn fmt::Write) -> fmt::Result,
+    /// The material in effect at a hit (the tiled plane's checkerboard overrides it).
+    pub material: fn(&Object<S>, &Hit<S>) -> MaterialId,
+    /// Ambient reflectivity at a hit.
+    pub ambient: fn(&Object<S>, &Palette<'_, S>, &Hit<S>) -> Vec3<S>,
+    /// Diffuse reflectivity at a hit.
+    pub diffuse: fn(&Object<S>, &Palette<'_, S>, &Hit<S>) -> Vec3<S>,
+    /// Mirror reflectivity at a hit.
+    pub specular: fn(&Object<S>, &Palette<'_, S>, &Hit<S>) -> S,
+}
+
+/// Each kind's own data.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Shape<S> {
+    /// An infinite plane.
+    Plane(Plane<S>),
+    /// A sphere.
+    Sphere(Sphere<S>),
+    /// A finite rectangle.
+    FPlane(Rect<S>),
+    /// An infinite checkerboard plane.
+    TiledPlane(TiledPlane<S>),
+    /// A textured rectangle.
+    TexPlane(TexPlane<S>),
+}
+
+/// An object of the scene: name, material, shape data and its kind's function table.
+#[derive(Clone, Debug)]
+pub struct Object<S: Scalar> {
+    vtable: &'static ObjectVTable<S>,
+    name: Name,
+    material: MaterialId,
+    shape: Shape<S>,
+}
+
+impl<S: Scalar> PartialEq for Object<S> {
+    fn eq(&self, other: &Self) -> bool {
+        // One table per kind: comparing kinds compares tables (addresses of promoted
+        // constants are not unique, so they are not compared).
+        self.vtable.kind == other.vtable.kind
+            && self.name == other.name
+            && self.material == other.material
+            && self.shape == other.shape
+    }
+}
+
+impl<S: Scalar> Object<S> {
+    /// What every kind's constructor does first, as the C `object_init`: name and material.
+    pub(crate) fn init(
+        vtable: &'static ObjectVTable<S>,
+        name: &str,
+        material: MaterialId,
+        shape: Shape<S>,
+    ) -> Result<Self, ErrorKind> {
+        Ok(Self { vtable, name: bounded(name)?, material, shape })
+    }
+
+    /// The nearest hit along `ray` (`t > 0`, hit point not in front of the image plane).
+    #[inline]
+    pub fn hits(&self, ray: &Ray<S>) -> Option<Hit<S>> {
+        (self.vtable.hits)(self, ray)
+    }
+    /// Writes the object's block.
+    pub fn print(&self, palette: &Palette<'_, S>, out: &mut dyn fmt::Write) -> fmt::Result {
+        (self.vtable.printer)(self, palette, out)
+    }
+    /// The material in effect at a hit.
+    #[inline]
+    pub fn material_at(&self, hit: &Hit<S>) -> MaterialId {
+        (self.vtable.material)(self, hit)
+    }
+    /// Ambient reflectivity at a hit.
+    #[inline]
+    pub fn ambient(&self, palette: &Palette<'_, S>, hit: &Hit<S>) -> Vec3<S> {
+        (self.vtable.ambient)(self, palette, hit)
+    }
+    /// Diffuse reflectivity at a hit.
+    #[inline]
+    pub fn diffuse(&self, palette: &Palette<'_, S>, hit: &Hit<S>) -> Vec3<S> {
+        (self.vtable.diffuse)(self, palette, hit)
+    }
+    /// Mirror reflectivity at a hit.
+    #[inline]
+    pub fn specular(&self, palette: &Palette<'_, S>, hit: &Hit<S>) -> S {
+        (self.vtable.specular)(self, palette, hit)
+    }
+
+    /// The object's kind.
+    pub fn kind(&self) -> Entity {
+        self.vtable.kind
+    }
+    /// The object's name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+    /// The object's own material (before any per-hit override).
+    pub fn material(&self) -> MaterialId {
+        self.material
+    }
+    /// The kind's data.
+    pub fn shape(&self) -> &Shape<S> {
+        &self.shape
+    }
+    /// The function table.
+    pub fn vtable(&self) -> &'static ObjectVTable<S> {
+        self.vtable
+    }
+}
+
+/// The default `hits`: no hit, as the C `object_no_hit`.
+pub fn object_no_hit<S: Scalar>(_: &Object<S>, _: &Ray<S>) -> Option<Hit<S>> {
+    None
+}
+
+/// The common printer (the C `object_print`): the block's header and its material.
+pub fn object_print<S: Scalar>(
+    obj: &Object<S>,
+    palette: &Palette<'_, S>,
+    out: &mut dyn fmt::Write,
+) -> fmt::Result {
+    print::header(out, obj.kind().keyword(), obj.name())?;
+    print::material_ref(out, Attr::Material, palette, obj.material)
+}
+
+/// The default material look-up: the object's own.
+pub fn object_material<S: Scalar>(obj: &Object<S>, _: &Hit<S>) -> MaterialId {
+    obj.material
+}
+
+/// The default ambient look-up (the C `material_getamb`).
+pub fn object_ambient<S: Scalar>(obj: &Object<S>, palette: &Palette<'_, S>, hit: &Hit<S>) -> Vec3<S> {
+    palette.material(obj.material_at(hit)).map_or(Vec3::ZERO, |m| m.ambient)
+}
+
+/// The default diffuse look-up.
+pub fn object_diffuse<S: Scalar>(obj: &Object<S>, palette: &Palette<'_, S>, hit: &Hit<S>) -> Vec3<S> {
+    palette.material(obj.material_at(hit)).map_or(Vec3::ZERO, |m| m.diffuse)
+}
+
+/// The default specular look-up.
+pub fn object_specular<S: Scalar>(obj: &Object<S>, palette: &Palette<'_, S>, hit: &Hit<S>) -> S {
+    palette.material(obj.material_at(hit)).map_or(S::ZERO, |m| m.specular)
+}
+
+/// A hit at `t` if it counts: `t > 0` and the z rule (a point with `z > 0.01` is in front of
+/// the image plane, between screen and viewer, and is not a hit).
+#[inline]
+pub(crate) fn accept<S: Scalar>(ray: &Ray<S>, t: S, normal: Vec3<S>) -> Option<Hit<S>> {
+    if !(t > S::ZERO) {
+        return None;
+    }
+    let point = ray.at(t);
+    if point.z > S::from_f64(Z_LIMIT) {
+        return None;
+    }
+    Some(Hit { t, point, normal })
+}
+
+/// Hit points with `z` above this are in front of the image plane.
+pub const Z_LIMIT: f64 = 0.01;
+
+/// An object as written: name, material and kind-specific data, all plain `f64`.
+///
+/// Every constructor is a `const fn`, so firmware can keep its scene in flash:
+/// ```
+/// use microray::ObjectDef;
+/// const BALL: ObjectDef<'static> = ObjectDef::sphere("ball", "red", [4.0, 3.0, -6.0], 2.0);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ObjectDef<'a> {
+    /// The object's name.
+    pub name: &'a str,
+    /// The name of its material.
+    pub material: &'a str,
+    /// The kind and its data.
+    pub shape: ShapeDef<'a>,
+}
+
+/// An object kind's data as written.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ShapeDef<'a> {
+    /// `plane`.
+    Plane(PlaneDef),
+    /// `sphere`.
+    Sphere(SphereDef),
+    /// `fplane`.
+    FPlane(RectDef),
+    /// `tiled_plane`, with the name of its second material.
+    TiledPlane(RectDef, &'a str),
+    /// `texplane`, with the name of its texture and the mode.
+    TexPlane(RectDef, &'a str, TextureMode),
+}
+
+impl<'a> ObjectDef<'a> {
+    /// An infinite plane.
+    pub const fn plane(name: &'a str, material: &'a str, normal: [f64; 3], point: [f64; 3]) -> Self {
+        Self { name, material, shape: ShapeDef::Plane(PlaneDef { normal, point }) }
+    }
+    /// A sphere.
+    pub const fn sphere(name: &'a str, material: &'a str, center: [f64; 3], radius: f64) -> Self {
+        Self { name, material, shape: ShapeDef::Sphere(SphereDef { center, radius }) }
+    }
+    /// A finite rectangle.
+    pub const fn fplane(name: &'a str, material: &'a str, rect: RectDef) -> Self {
+        Self { name, material, shape: ShapeDef::FPlane(rect) }
+    }
+    /// An infinite checkerboard plane; tiles where `ix + iy` is even use `altmaterial`.
+    pub const fn tiled_plane(
+        name: &'a str,
+        material: &'a str,
+        rect: RectDef,
+        altmaterial: &'a str,
+    ) -> Self {
+        Self { name, material, shape: ShapeDef::TiledPlane(rect, altmaterial) }
+    }
+    /// A textured rectangle.
+    pub const fn texplane(
+        name: &'a str,
+        material: &'a str,
+        rect: RectDef,
+        texname: &'a str,
+        mode: TextureMode,
+    ) -> Self {
+        Self { name, material, shape: ShapeDef::TexPlane(rect, texname, mode) }
+    }
+
+    /// The kind of object this defines.
+    pub const fn entity(&self) -> Entity {
+        match self.shape {
+            ShapeDef::Plane(_) => Entity::Plane,
+            ShapeDef::Sphere(_) => Entity::Sphere,
+            ShapeDef::FPlane(_) => Entity::FPlane,
+            ShapeDef::TiledPlane(..) => Entity::TiledPlane,
+            ShapeDef::TexPlane(..) => Entity::TexPlane,
+        }
+    }
+}
+
+impl<S: Scalar> Object<S> {
+    /// Checks a definition and builds the object with its kind's table. Names of materials
+    /// and textures are resolved with the given look-ups.
+    pub(crate) fn build(
+        def: &ObjectDef<'_>,
+        find_material: impl Fn(&str) -> Option<MaterialId>,
+        find_texture: impl Fn(&str) -> Option<u16>,
+    ) -> Result<Self, ErrorKind> {
+        let material_named = |attr: Attr, name: &str| {
+            find_material(name)
+                .ok_or(ErrorKind::UndefinedMaterial { attr, name: Snippet::new(name.as_bytes()) })
+        };
+        let material = material_named(Attr::Material, def.material)?;
+        match &def.shape {
+            ShapeDef::Plane(p) => plane::plane_init(def.name, material, p),
+            ShapeDef::Sphere(s) => sphere::sphere_init(def.name, material, s),
+            ShapeDef::FPlane(r) => fplane::fplane_init(def.name, material, r),
+            ShapeDef::TiledPlane(r, alt) => {
+                let alt = material_named(Attr::Altmaterial, alt)?;
+                tiled_plane::tiled_plane_init(def.name, material, r, alt)
+            }
+            ShapeDef::TexPlane(r, texname, mode) => {
+                let texture = find_texture(texname).ok_or(ErrorKind::UndefinedTexture {
+                    name: Snippet::new(texname.as_bytes()),
+                })?;
+                texplane::texplane_init(def.name, material, r, texture, *mode)
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod test_support {
+    //! A tiny palette for the kinds' unit tests.
+    use super::*;
+    use crate::camera::CameraDef;
+    use crate::material::MaterialDef;
+
+    pub(crate) fn materials() -> [Material<f64>; 2] {
+        [
+            Material::build(&MaterialDef::new("red").ambient([1.0, 0.0, 0.0]).diffuse([2.0, 0.0, 0.0]))
+                .unwrap(),
+            Material::build(
+                &MaterialDef::new("gray").ambient([0.5; 3]).diffuse([3.0; 3]).specular(0.25),
+            )
+            .unwrap(),
+        ]
+    }
+
+    pub(crate) fn camera() -> Camera<f64> {
+        Camera::build(&CameraDef::new("c", [80, 60], [8.0, 6.0], [4.0, 3.0, 3.0]), 1024).unwrap()
+    }
+
+    pub(crate) fn ray(base: [f64; 3], dir: [f64; 3]) -> Ray<f64> {
+        Ray::new(Vec3::from_array(base), Vec3::from_array(dir).unit_f64().unwrap())
+    }
+}

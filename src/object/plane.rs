@@ -1,0 +1,170 @@
+//! The infinite plane: the seed's `plane_t`, `plane_init`, `plane_hits` and `plane_print`.
+
+use super::{
+    Hit, Object, ObjectVTable, Palette, Shape, accept, object_ambient, object_diffuse,
+    object_material, object_print, object_specular,
+};
+use crate::error::{Attr, Entity, ErrorKind};
+use crate::material::{MaterialId, check_finite};
+use crate::print;
+use crate::ray::Ray;
+use crate::scalar::Scalar;
+use crate::vec3::Vec3;
+use core::fmt;
+
+/// A plane as written.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlaneDef {
+    /// The normal (any length but zero; normalised at load).
+    pub normal: [f64; 3],
+    /// A point on the plane.
+    pub point: [f64; 3],
+}
+
+/// A plane with its invariants computed once, at load: the unit normal and `N.point`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Plane<S> {
+    /// The normal as written (kept for the printer).
+    pub normal: Vec3<S>,
+    /// A point on the plane.
+    pub point: Vec3<S>,
+    /// The unit normal.
+    pub unit_normal: Vec3<S>,
+    /// `unit_normal . point`: the plane is `N.x = N.point`.
+    pub n_dot_point: S,
+}
+
+impl<S: Scalar> Plane<S> {
+    /// Checks a definition: finite values, a normal that is not zero.
+    pub(crate) fn build(def: &PlaneDef) -> Result<Self, ErrorKind> {
+        check_finite(&def.normal, Attr::Normal)?;
+        check_finite(&def.point, Attr::Point)?;
+        let normal = Vec3::<S>::from_f64(def.normal);
+        let point = Vec3::<S>::from_f64(def.point);
+        // Invariants in f64 from the stored values: every number type starts from the same
+        // correctly rounded unit normal, and a re-read printed scene is equal.
+        let unit = normal.to_f64().unit_f64().ok_or(ErrorKind::ZeroVector { attr: Attr::Normal })?;
+        let n_dot_point = unit.dot(point.to_f64());
+        Ok(Self { normal, point, unit_normal: unit.cast(), n_dot_point: S::from_f64(n_dot_point) })
+    }
+
+    /// The seed's `plane_hits`: `t = (N.point - N.base) / N.dir`; no hit when the ray is
+    /// parallel (`N.dir == 0`), when `t <= 0`, or when the hit is in front of the image plane.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray<S>) -> Option<Hit<S>> {
+        let n_dot_dir = self.unit_normal.dot(ray.dir);
+        if n_dot_dir == S::ZERO {
+            return None;
+        }
+        let t = (self.n_dot_point - self.unit_normal.dot(ray.base)) / n_dot_dir;
+        accept(ray, t, self.unit_normal)
+    }
+
+    /// Writes `normal` and `point`.
+    pub(crate) fn print_attributes(&self, out: &mut dyn fmt::Write) -> fmt::Result {
+        print::vector(out, Attr::Normal, self.normal)?;
+        print::vector(out, Attr::Point, self.point)
+    }
+
+    /// The plane kind's function table.
+    pub const VTABLE: ObjectVTable<S> = ObjectVTable {
+        kind: Entity::Plane,
+        hits: plane_hits,
+        printer: plane_print,
+        material: object_material,
+        ambient: object_ambient,
+        diffuse: object_diffuse,
+        specular: object_specular,
+    };
+}
+
+/// The seed's `plane_init`: the common part, then the plane's own table and data.
+pub fn plane_init<S: Scalar>(
+    name: &str,
+    material: MaterialId,
+    def: &PlaneDef,
+) -> Result<Object<S>, ErrorKind> {
+    Object::init(&Plane::VTABLE, name, material, Shape::Plane(Plane::build(def)?))
+}
+
+/// `hits` of a plane.
+pub fn plane_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>) -> Option<Hit<S>> {
+    match obj.shape() {
+        Shape::Plane(plane) => plane.intersect(ray),
+        _ => None,
+    }
+}
+
+/// `printer` of a plane: the common object printer first, then the plane's attributes.
+pub fn plane_print<S: Scalar>(
+    obj: &Object<S>,
+    palette: &Palette<'_, S>,
+    out: &mut dyn fmt::Write,
+) -> fmt::Result {
+    object_print(obj, palette, out)?;
+    if let Shape::Plane(plane) = obj.shape() {
+        plane.print_attributes(out)?;
+    }
+    print::footer(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::object::test_support::ray;
+
+    fn floor_at_minus_7() -> Object<f64> {
+        plane_init("p", 0, &PlaneDef { normal: [0.0, 0.0, 1.0], point: [0.0, 0.0, -7.0] }).unwrap()
+    }
+
+    #[test]
+    fn seed_example() {
+        // The seed's worked example: N = (0,0,1), point (0,0,-7), base (4,3,5), dir (0,0,-1).
+        let hit = floor_at_minus_7().hits(&ray([4.0, 3.0, 5.0], [0.0, 0.0, -1.0])).unwrap();
+        assert_eq!(hit.t, 12.0);
+        assert_eq!(hit.point, Vec3::new(4.0, 3.0, -7.0));
+        assert_eq!(hit.normal, Vec3::new(0.0, 0.0, 1.0));
+    }
+
+    #[test]
+    fn parallel_and_behind_miss() {
+        let p = floor_at_minus_7();
+        assert_eq!(p.hits(&ray([4.0, 3.0, 5.0], [1.0, 0.0, 0.0])), None);
+        assert_eq!(p.hits(&ray([4.0, 3.0, 5.0], [0.0, 0.0, 1.0])), None);
+    }
+
+    #[test]
+    fn z_rule() {
+        // A wall at z = 1 faces the camera: hit points there are in front of the image plane.
+        let wall: Object<f64> =
+            plane_init("w", 0, &PlaneDef { normal: [0.0, 0.0, 1.0], point: [0.0, 0.0, 1.0] }).unwrap();
+        assert_eq!(wall.hits(&ray([0.0, 0.0, 5.0], [0.0, 0.0, -1.0])), None);
+        // At z = 0.01 exactly it still counts; the rule is z > 0.01.
+        let edge: Object<f64> =
+            plane_init("e", 0, &PlaneDef { normal: [0.0, 0.0, 1.0], point: [0.0, 0.0, 0.01] }).unwrap();
+        assert!(edge.hits(&ray([0.0, 0.0, 5.0], [0.0, 0.0, -1.0])).is_some());
+    }
+
+    #[test]
+    fn normal_is_normalised_at_load_and_written_one_kept() {
+        let p = Plane::<f64>::build(&PlaneDef { normal: [0.0, 3.0, 4.0], point: [0.0, 1.0, 0.0] }).unwrap();
+        assert_eq!(p.normal, Vec3::new(0.0, 3.0, 4.0));
+        assert_eq!(p.unit_normal, Vec3::new(0.0, 0.6, 0.8));
+        assert_eq!(p.n_dot_point, 0.6);
+        assert_eq!(
+            Plane::<f64>::build(&PlaneDef { normal: [0.0; 3], point: [0.0; 3] }),
+            Err(ErrorKind::ZeroVector { attr: Attr::Normal })
+        );
+    }
+
+    #[test]
+    fn installs_the_plane_table() {
+        let p = floor_at_minus_7();
+        assert_eq!(p.vtable().kind, Entity::Plane);
+        assert_eq!(p.kind(), Entity::Plane);
+        // Dispatch goes through the installed table: the same answer as the plane itself.
+        let Shape::Plane(plane) = p.shape() else { panic!("not a plane") };
+        let r = ray([1.0, 2.0, 0.0], [0.1, -0.2, -1.0]);
+        assert_eq!(p.hits(&r), plane.intersect(&r));
+    }
+}

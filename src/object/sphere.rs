@@ -1,0 +1,162 @@
+//! The sphere.
+
+use super::{
+    Hit, Object, ObjectVTable, Palette, Shape, accept, object_ambient, object_diffuse,
+    object_material, object_print, object_specular,
+};
+use crate::error::{Attr, Entity, ErrorKind};
+use crate::material::{MaterialId, check_finite};
+use crate::print;
+use crate::ray::Ray;
+use crate::scalar::Scalar;
+use crate::vec3::Vec3;
+use core::fmt;
+
+/// A sphere as written.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SphereDef {
+    /// The centre.
+    pub center: [f64; 3],
+    /// The radius, above zero.
+    pub radius: f64,
+}
+
+/// A sphere with its squared radius computed at load.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sphere<S> {
+    /// The centre.
+    pub center: Vec3<S>,
+    /// The radius.
+    pub radius: S,
+    /// The radius squared.
+    pub radius_squared: S,
+}
+
+impl<S: Scalar> Sphere<S> {
+    /// Checks a definition: finite values, a radius above zero.
+    pub(crate) fn build(def: &SphereDef) -> Result<Self, ErrorKind> {
+        check_finite(&def.center, Attr::Center)?;
+        check_finite(&[def.radius], Attr::Radius)?;
+        if def.radius <= 0.0 {
+            return Err(ErrorKind::NotPositive { attr: Attr::Radius });
+        }
+        let radius = S::from_f64(def.radius);
+        if radius <= S::ZERO {
+            return Err(ErrorKind::NotPositive { attr: Attr::Radius });
+        }
+        let r = radius.to_f64();
+        Ok(Self { center: Vec3::from_f64(def.center), radius, radius_squared: S::from_f64(r * r) })
+    }
+
+    /// The near root of `|base + t dir - center|^2 = r^2` (unit `dir`); a miss when the
+    /// discriminant is not positive, when the near root is not ahead of the ray, or when the
+    /// hit point is in front of the image plane.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray<S>) -> Option<Hit<S>> {
+        let to_base = ray.base - self.center;
+        let b = to_base.dot(ray.dir);
+        let c = to_base.dot(to_base) - self.radius_squared;
+        let discriminant = b * b - c;
+        if !(discriminant > S::ZERO) {
+            return None;
+        }
+        let t = -b - discriminant.sqrt();
+        if !(t > S::ZERO) {
+            return None;
+        }
+        let point = ray.at(t);
+        let normal = (point - self.center).unit()?;
+        accept(ray, t, normal)
+    }
+
+    /// The sphere kind's function table.
+    pub const VTABLE: ObjectVTable<S> = ObjectVTable {
+        kind: Entity::Sphere,
+        hits: sphere_hits,
+        printer: sphere_print,
+        material: object_material,
+        ambient: object_ambient,
+        diffuse: object_diffuse,
+        specular: object_specular,
+    };
+}
+
+/// Builds a sphere object and installs its table.
+pub fn sphere_init<S: Scalar>(
+    name: &str,
+    material: MaterialId,
+    def: &SphereDef,
+) -> Result<Object<S>, ErrorKind> {
+    Object::init(&Sphere::VTABLE, name, material, Shape::Sphere(Sphere::build(def)?))
+}
+
+/// `hits` of a sphere.
+pub fn sphere_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>) -> Option<Hit<S>> {
+    match obj.shape() {
+        Shape::Sphere(sphere) => sphere.intersect(ray),
+        _ => None,
+    }
+}
+
+/// `printer` of a sphere.
+pub fn sphere_print<S: Scalar>(
+    obj: &Object<S>,
+    palette: &Palette<'_, S>,
+    out: &mut dyn fmt::Write,
+) -> fmt::Result {
+    object_print(obj, palette, out)?;
+    if let Shape::Sphere(sphere) = obj.shape() {
+        print::vector(out, Attr::Center, sphere.center)?;
+        print::numbers(out, Attr::Radius, &[sphere.radius])?;
+    }
+    print::footer(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::object::test_support::ray;
+
+    fn ball() -> Object<f64> {
+        sphere_init("s", 0, &SphereDef { center: [0.0, 0.0, -10.0], radius: 2.0 }).unwrap()
+    }
+
+    #[test]
+    fn near_root_and_normal() {
+        let hit = ball().hits(&ray([0.0, 0.0, 0.0], [0.0, 0.0, -1.0])).unwrap();
+        assert_eq!(hit.t, 8.0);
+        assert_eq!(hit.point, Vec3::new(0.0, 0.0, -8.0));
+        assert_eq!(hit.normal, Vec3::new(0.0, 0.0, 1.0));
+        // Off-axis: base (1,0,0) along -z meets the sphere at z = -10 + sqrt(3).
+        let hit = ball().hits(&ray([1.0, 0.0, 0.0], [0.0, 0.0, -1.0])).unwrap();
+        assert!((hit.t - (10.0 - 3f64.sqrt())).abs() < 1e-12);
+        assert!((hit.normal.length() - 1.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn misses() {
+        let s = ball();
+        // Passes beside, grazes (discriminant 0), points away, starts inside.
+        assert_eq!(s.hits(&ray([3.0, 0.0, 0.0], [0.0, 0.0, -1.0])), None);
+        assert_eq!(s.hits(&ray([2.0, 0.0, 0.0], [0.0, 0.0, -1.0])), None);
+        assert_eq!(s.hits(&ray([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])), None);
+        assert_eq!(s.hits(&ray([0.0, 0.0, -10.0], [0.0, 0.0, -1.0])), None);
+    }
+
+    #[test]
+    fn z_rule_applies_to_the_near_root() {
+        // A sphere that pokes through the image plane: its near side is at z = 1.
+        let s: Object<f64> =
+            sphere_init("s", 0, &SphereDef { center: [0.0, 0.0, -1.0], radius: 2.0 }).unwrap();
+        assert_eq!(s.hits(&ray([0.0, 0.0, 5.0], [0.0, 0.0, -1.0])), None);
+    }
+
+    #[test]
+    fn radius_must_be_positive() {
+        for radius in [0.0, -1.0, 1e-300] {
+            let def = SphereDef { center: [0.0; 3], radius };
+            let result = Sphere::<f32>::build(&def);
+            assert_eq!(result, Err(ErrorKind::NotPositive { attr: Attr::Radius }), "{radius}");
+        }
+    }
+}

@@ -1,0 +1,164 @@
+//! The textured plane: a rectangle whose ambient and diffuse colours are multiplied by an
+//! image.
+
+use super::{
+    Hit, Object, ObjectVTable, Palette, Shape, object_ambient, object_diffuse, object_material,
+    object_print, object_specular,
+};
+use crate::error::{Attr, Entity, ErrorKind};
+use crate::material::MaterialId;
+use crate::object::fplane::{Rect, RectDef};
+use crate::print;
+use crate::ray::Ray;
+use crate::scalar::Scalar;
+use crate::vec3::Vec3;
+use core::fmt;
+
+/// How a texture is laid on its rectangle (`mode` in the scene).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TextureMode {
+    /// `mode 0`: the image is stretched to fit the rectangle.
+    Fit = 0,
+    /// `mode 1`: the image repeats, one texel per camera pixel.
+    Tile = 1,
+}
+
+/// A textured rectangle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TexPlane<S> {
+    /// The rectangle.
+    pub rect: Rect<S>,
+    /// Index of the texture in the scene.
+    pub texture: u16,
+    /// How the texture is laid out.
+    pub mode: TextureMode,
+}
+
+impl<S: Scalar> TexPlane<S> {
+    /// The texel under a hit as a colour factor (value / 256); white without a texture.
+    pub fn texel(&self, palette: &Palette<'_, S>, hit: &Hit<S>) -> Vec3<S> {
+        let Some(texture) = palette.textures.get(usize::from(self.texture)) else {
+            return Vec3::new(S::ONE, S::ONE, S::ONE);
+        };
+        let (width, height) = (i64::from(texture.width()), i64::from(texture.height()));
+        let [qx, qy] = self.rect.local(hit.point);
+        let (column, row) = match self.mode {
+            TextureMode::Fit => {
+                let [w, h] = self.rect.dimensions;
+                let x = (qx / w * S::from_f64(width as f64)).floor_to_i64();
+                let y = (qy / h * S::from_f64(height as f64)).floor_to_i64();
+                (x.clamp(0, width - 1), y.clamp(0, height - 1))
+            }
+            TextureMode::Tile => {
+                let camera = palette.camera;
+                let [world_w, world_h] = camera.world();
+                let x = (qx / world_w * S::from_f64(f64::from(camera.width()))).floor_to_i64();
+                let y = (qy / world_h * S::from_f64(f64::from(camera.height()))).floor_to_i64();
+                (x.rem_euclid(width), y.rem_euclid(height))
+            }
+        };
+        // Local y grows upwards; image rows are stored top first.
+        let flipped = height - 1 - row;
+        let [r, g, b] = texture.texel(
+            usize::try_from(column).unwrap_or(0),
+            usize::try_from(flipped).unwrap_or(0),
+        );
+        let scale = |c: u8| S::from_f64(f64::from(c) / 256.0);
+        Vec3::new(scale(r), scale(g), scale(b))
+    }
+
+    /// The textured plane kind's function table: the rectangle's `hits`, and ambient and
+    /// diffuse look-ups multiplied by the texel.
+    pub const VTABLE: ObjectVTable<S> = ObjectVTable {
+        kind: Entity::TexPlane,
+        hits: texplane_hits,
+        printer: texplane_print,
+        material: object_material,
+        ambient: texplane_ambient,
+        diffuse: texplane_diffuse,
+        specular: object_specular,
+    };
+}
+
+/// Builds a textured plane and installs its table.
+pub fn texplane_init<S: Scalar>(
+    name: &str,
+    material: MaterialId,
+    def: &RectDef,
+    texture: u16,
+    mode: TextureMode,
+) -> Result<Object<S>, ErrorKind> {
+    let textured = TexPlane { rect: Rect::build(def)?, texture, mode };
+    Object::init(&TexPlane::VTABLE, name, material, Shape::TexPlane(textured))
+}
+
+/// `hits` of a textured plane: the rectangle's.
+pub fn texplane_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>) -> Option<Hit<S>> {
+    match obj.shape() {
+        Shape::TexPlane(textured) => textured.rect.intersect(ray),
+        _ => None,
+    }
+}
+
+fn texel_factor<S: Scalar>(obj: &Object<S>, palette: &Palette<'_, S>, hit: &Hit<S>) -> Vec3<S> {
+    match obj.shape() {
+        Shape::TexPlane(textured) => textured.texel(palette, hit),
+        _ => Vec3::new(S::ONE, S::ONE, S::ONE),
+    }
+}
+
+/// Ambient look-up of a textured plane: the material's, times the texel.
+pub fn texplane_ambient<S: Scalar>(obj: &Object<S>, palette: &Palette<'_, S>, hit: &Hit<S>) -> Vec3<S> {
+    object_ambient(obj, palette, hit).mul_each(texel_factor(obj, palette, hit))
+}
+
+/// Diffuse look-up of a textured plane: the material's, times the texel.
+pub fn texplane_diffuse<S: Scalar>(obj: &Object<S>, palette: &Palette<'_, S>, hit: &Hit<S>) -> Vec3<S> {
+    object_diffuse(obj, palette, hit).mul_each(texel_factor(obj, palette, hit))
+}
+
+/// `printer` of a textured plane.
+pub fn texplane_print<S: Scalar>(
+    obj: &Object<S>,
+    palette: &Palette<'_, S>,
+    out: &mut dyn fmt::Write,
+) -> fmt::Result {
+    object_print(obj, palette, out)?;
+    if let Shape::TexPlane(textured) = obj.shape() {
+        textured.rect.print_attributes(out)?;
+        let name = palette.textures.get(usize::from(textured.texture)).map_or("", |t| t.name());
+        print::word(out, Attr::Texname, name)?;
+        writeln!(out, "  {} {}", Attr::Mode, textured.mode as u8)?;
+    }
+    print::footer(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::object::test_support::{camera, materials, ray};
+    use crate::texture::{Texture, TextureDef};
+
+    #[test]
+    fn fit_mode_scales_by_texel_with_rows_flipped() {
+        // A 2 x 2 image: top row red, white; bottom row green, blue.
+        let ppm = b"P6 2 2 255 \xff\x00\x00\xff\xff\xff\x00\xff\x00\x00\x00\xff";
+        let textures = [Texture::build(&TextureDef { name: "t", filename: "t.ppm", ppm }).unwrap()];
+        let mats = materials();
+        let cam = camera();
+        let palette = Palette { materials: &mats, textures: &textures, camera: &cam };
+        // An 8 x 6 wall at z = -4, material gray (ambient 0.5, diffuse 3).
+        let def = RectDef::new([0.0, 0.0, 1.0], [0.0, 0.0, -4.0], [1.0, 0.0, 0.0], [8.0, 6.0]);
+        let obj: Object<f64> = texplane_init("w", 1, &def, 0, TextureMode::Fit).unwrap();
+        let look = |x: f64, y: f64| {
+            let hit = obj.hits(&ray([x, y, 0.0], [0.0, 0.0, -1.0])).unwrap();
+            (obj.ambient(&palette, &hit), obj.diffuse(&palette, &hit))
+        };
+        let k = 255.0 / 256.0;
+        // Lower left is the image's bottom-left texel (green).
+        assert_eq!(look(1.0, 1.0).0, Vec3::new(0.0, 0.5 * k, 0.0));
+        // Upper left is red, upper right white.
+        assert_eq!(look(1.0, 5.0).1, Vec3::new(3.0 * k, 0.0, 0.0));
+        assert_eq!(look(7.0, 5.0).1, Vec3::new(3.0 * k, 3.0 * k, 3.0 * k));
+    }
+}

@@ -1,0 +1,125 @@
+//! The tiled plane: an infinite checkerboard of two materials.
+
+use super::{
+    Hit, Object, ObjectVTable, Palette, Shape, object_ambient, object_diffuse, object_print,
+    object_specular,
+};
+use crate::error::{Attr, Entity, ErrorKind};
+use crate::material::MaterialId;
+use crate::object::fplane::{Rect, RectDef};
+use crate::print;
+use crate::ray::Ray;
+use crate::scalar::Scalar;
+use core::fmt;
+
+/// The course's offset that keeps tile indices positive; it changes the parity for some tile
+/// sizes, so it is kept.
+pub const TILE_OFFSET: f64 = 100_000.0;
+
+/// A checkerboard plane: the rectangle's axes and tile size, and the second material.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TiledPlane<S> {
+    /// The plane, its axes and the tile size (`dimensions`).
+    pub rect: Rect<S>,
+    /// The material of tiles where `ix + iy` is even.
+    pub altmaterial: MaterialId,
+}
+
+impl<S: Scalar> TiledPlane<S> {
+    /// Whether the tile under `hit` uses `altmaterial`: with `q = R' hit` (the hit point
+    /// itself, not relative to `point`), `ix = floor((q.x + 100000) / width)`, likewise `iy`;
+    /// even `ix + iy` is the alternate material.
+    #[inline]
+    pub fn is_alternate(&self, hit: &Hit<S>) -> bool {
+        let offset = S::from_f64(TILE_OFFSET);
+        let [w, h] = self.rect.dimensions;
+        let ix = ((self.rect.u.dot(hit.point) + offset) / w).floor_to_i64();
+        let iy = ((self.rect.v.dot(hit.point) + offset) / h).floor_to_i64();
+        (ix.wrapping_add(iy)) & 1 == 0
+    }
+
+    /// The tiled plane kind's function table: the plane's `hits`, and a material look-up
+    /// that the ambient, diffuse and specular look-ups follow.
+    pub const VTABLE: ObjectVTable<S> = ObjectVTable {
+        kind: Entity::TiledPlane,
+        hits: tiled_plane_hits,
+        printer: tiled_plane_print,
+        material: tiled_plane_material,
+        ambient: object_ambient,
+        diffuse: object_diffuse,
+        specular: object_specular,
+    };
+}
+
+/// Builds a tiled plane and installs its table.
+pub fn tiled_plane_init<S: Scalar>(
+    name: &str,
+    material: MaterialId,
+    def: &RectDef,
+    altmaterial: MaterialId,
+) -> Result<Object<S>, ErrorKind> {
+    let tiled = TiledPlane { rect: Rect::build(def)?, altmaterial };
+    Object::init(&TiledPlane::VTABLE, name, material, Shape::TiledPlane(tiled))
+}
+
+/// `hits` of a tiled plane: the infinite plane's.
+pub fn tiled_plane_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>) -> Option<Hit<S>> {
+    match obj.shape() {
+        Shape::TiledPlane(tiled) => tiled.rect.plane.intersect(ray),
+        _ => None,
+    }
+}
+
+/// The material look-up of a tiled plane: the parity rule.
+pub fn tiled_plane_material<S: Scalar>(obj: &Object<S>, hit: &Hit<S>) -> MaterialId {
+    match obj.shape() {
+        Shape::TiledPlane(tiled) if tiled.is_alternate(hit) => tiled.altmaterial,
+        _ => obj.material(),
+    }
+}
+
+/// `printer` of a tiled plane.
+pub fn tiled_plane_print<S: Scalar>(
+    obj: &Object<S>,
+    palette: &Palette<'_, S>,
+    out: &mut dyn fmt::Write,
+) -> fmt::Result {
+    object_print(obj, palette, out)?;
+    if let Shape::TiledPlane(tiled) = obj.shape() {
+        tiled.rect.print_attributes(out)?;
+        print::material_ref(out, Attr::Altmaterial, palette, tiled.altmaterial)?;
+    }
+    print::footer(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::object::test_support::{camera, materials, ray};
+    use crate::vec3::Vec3;
+
+    #[test]
+    fn parity_picks_altmaterial() {
+        // Floor y = -1, unit tiles, x axis along x. Material 0 is red, altmaterial 1 is gray.
+        let def = RectDef::new([0.0, 1.0, 0.0], [0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0]);
+        let obj: Object<f64> = tiled_plane_init("t", 0, &def, 1).unwrap();
+        let mats = materials();
+        let cam = camera();
+        let palette = Palette { materials: &mats, textures: &[], camera: &cam };
+        // u = (1,0,0), v = n x u = (0,0,-1): q = (x, -z).
+        let at = |x: f64, z: f64| {
+            let hit = obj.hits(&ray([x, 1.0, z], [0.0, -1.0, 0.0])).unwrap();
+            (obj.material_at(&hit), obj.ambient(&palette, &hit), obj.specular(&palette, &hit))
+        };
+        // x = 0.5, z = -0.5: ix = floor(100000.5) = 100000, iy = floor(100000.5): even → alt.
+        assert_eq!(at(0.5, -0.5), (1, Vec3::new(0.5, 0.5, 0.5), 0.25));
+        // One tile over in x: odd → own material.
+        assert_eq!(at(1.5, -0.5), (0, Vec3::new(1.0, 0.0, 0.0), 0.0));
+        // One tile over in z as well: even again.
+        assert_eq!(at(1.5, -1.5).0, 1);
+        // Negative coordinates floor, not truncate: x = -0.5 is tile 99999 (odd).
+        assert_eq!(at(-0.5, -0.5).0, 0);
+        // Far below -100000 the parity still alternates (the course's truncation broke here).
+        assert_ne!(at(-200000.5, -0.5).0, at(-200001.5, -0.5).0);
+    }
+}

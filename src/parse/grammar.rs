@@ -1,0 +1,431 @@
+//! Tokens and blocks: nom parsers for blanks, comments and tokens, and one loop over blocks.
+
+use super::number::{NumberError, parse_number};
+use super::{Values, attributes_of, values_of};
+use crate::camera::CameraDef;
+use crate::error::{Attr, Entity, Error, ErrorKind, Position, Range, Snippet, TextureError};
+use crate::light::LightDef;
+use crate::material::MaterialDef;
+use crate::name::{NAME_CAPACITY, PATH_CAPACITY};
+use crate::object::{ObjectDef, PlaneDef, RectDef, ShapeDef, SphereDef, TextureMode};
+use crate::scalar::Scalar;
+use crate::scene::{Scene, SceneBuilder};
+use crate::texture::TextureDef;
+use nom::branch::alt;
+use nom::bytes::complete::{tag, take_till, take_till1, take_while1};
+use nom::character::complete::char;
+use nom::combinator::recognize;
+use nom::multi::many0_count;
+use nom::sequence::pair;
+use nom::{IResult, Parser};
+
+fn is_space(b: u8) -> bool {
+    matches!(b, b' ' | b'\t' | b'\n' | b'\r' | 0x0b | 0x0c)
+}
+
+fn is_delimiter(b: u8) -> bool {
+    is_space(b) || b == b'{' || b == b'}'
+}
+
+/// Whitespace and `#` comments (to the end of the line).
+fn blank(input: &[u8]) -> IResult<&[u8], usize> {
+    many0_count(alt((take_while1(is_space), recognize(pair(char('#'), take_till(|b| b == b'\n'))))))
+        .parse(input)
+}
+
+/// `{`, `}`, or a run of anything else up to whitespace or a brace.
+fn token(input: &[u8]) -> IResult<&[u8], &[u8]> {
+    alt((tag(&b"{"[..]), tag(&b"}"[..]), take_till1(is_delimiter))).parse(input)
+}
+
+/// A token and its byte offset in the text.
+#[derive(Clone, Copy)]
+struct Tok<'i> {
+    bytes: &'i [u8],
+    at: usize,
+}
+
+impl Tok<'_> {
+    fn is(&self, text: &[u8]) -> bool {
+        self.bytes == text
+    }
+    fn is_brace(&self) -> bool {
+        self.is(b"{") || self.is(b"}")
+    }
+}
+
+fn snippet(token: Option<Tok<'_>>) -> Snippet {
+    token.map_or(Snippet::END, |t| Snippet::new(t.bytes))
+}
+
+struct Cursor<'i> {
+    text: &'i [u8],
+    rest: &'i [u8],
+}
+
+impl<'i> Cursor<'i> {
+    fn offset(&self, at: &[u8]) -> usize {
+        self.text.len().saturating_sub(at.len())
+    }
+
+    fn error(&self, kind: ErrorKind, at: usize) -> Error {
+        Error::at(kind, Position::of_offset(self.text, at))
+    }
+
+    /// The next token without consuming it; control characters outside comments are errors.
+    fn peek(&self) -> Result<Option<Tok<'i>>, Error> {
+        let rest = blank(self.rest).map_or(self.rest, |(rest, _)| rest);
+        let at = self.offset(rest);
+        let Some(&first) = rest.first() else {
+            return Ok(None);
+        };
+        let bytes = token(rest).map_or(&[][..], |(_, bytes)| bytes);
+        let bad = bytes.iter().position(|&b| b < 0x20 || b == 0x7f);
+        match (bad, bytes.is_empty()) {
+            (None, false) => Ok(Some(Tok { bytes, at })),
+            (Some(i), _) => {
+                let byte = bytes.get(i).copied().unwrap_or(first);
+                Err(self.error(ErrorKind::InvalidCharacter { byte }, at + i))
+            }
+            (None, true) => Err(self.error(ErrorKind::InvalidCharacter { byte: first }, at)),
+        }
+    }
+
+    fn advance(&mut self, token: Tok<'i>) {
+        self.rest = self.text.get(token.at + token.bytes.len()..).unwrap_or(&[]);
+    }
+
+    fn next(&mut self) -> Result<Option<Tok<'i>>, Error> {
+        let token = self.peek()?;
+        if let Some(t) = token {
+            self.advance(t);
+        }
+        Ok(token)
+    }
+
+    /// A token as UTF-8 text of at most `max` bytes.
+    fn text_of(&self, token: Tok<'i>, max: usize) -> Result<&'i str, Error> {
+        let text = core::str::from_utf8(token.bytes)
+            .map_err(|e| self.error(ErrorKind::NotUtf8, token.at + e.valid_up_to()))?;
+        if text.len() > max {
+            let max = u16::try_from(max).unwrap_or(u16::MAX);
+            return Err(self.error(ErrorKind::NameTooLong { max }, token.at));
+        }
+        Ok(text)
+    }
+}
+
+/// One attribute's values and where they were.
+#[derive(Clone, Copy)]
+struct Slot<'i> {
+    at: usize,
+    value_at: usize,
+    value: Value<'i>,
+}
+
+#[derive(Clone, Copy)]
+enum Value<'i> {
+    Numbers([f64; 3]),
+    Word(&'i str),
+}
+
+/// A parsed block, before it is checked and added to the scene.
+struct Block<'i> {
+    entity: Entity,
+    keyword_at: usize,
+    name: &'i str,
+    name_at: usize,
+    slots: [Option<Slot<'i>>; Attr::COUNT],
+}
+
+impl<'i> Block<'i> {
+    fn slot(&self, attr: Attr) -> Option<&Slot<'i>> {
+        self.slots.get(attr as usize).and_then(Option::as_ref)
+    }
+
+    fn missing(&self, attr: Attr) -> ErrorKind {
+        ErrorKind::MissingAttribute { entity: self.entity, attr }
+    }
+
+    /// The first `N` numbers of a required attribute.
+    fn numbers<const N: usize>(&self, attr: Attr) -> Result<[f64; N], ErrorKind> {
+        match self.slot(attr).map(|s| s.value) {
+            Some(Value::Numbers(values)) => {
+                let mut out = [0.0; N];
+                out.iter_mut().zip(values).for_each(|(o, v)| *o = v);
+                Ok(out)
+            }
+            _ => Err(self.missing(attr)),
+        }
+    }
+
+    /// The numbers of an optional attribute, zero when left out.
+    fn numbers_or_zero<const N: usize>(&self, attr: Attr) -> [f64; N] {
+        self.numbers(attr).unwrap_or([0.0; N])
+    }
+
+    fn word(&self, attr: Attr) -> Result<&'i str, ErrorKind> {
+        match self.slot(attr).map(|s| s.value) {
+            Some(Value::Word(word)) => Ok(word),
+            _ => Err(self.missing(attr)),
+        }
+    }
+
+    /// Where an error about this block points: at the attribute it is about, at the value
+    /// for undefined names and texture files, else at the name or the keyword.
+    fn offset_of(&self, kind: &ErrorKind) -> usize {
+        let value_of = |attr| self.slot(attr).map(|s| s.value_at);
+        let found = match kind {
+            ErrorKind::UndefinedMaterial { attr, .. } => value_of(*attr),
+            ErrorKind::UndefinedTexture { .. } => value_of(Attr::Texname),
+            ErrorKind::Texture { .. } => value_of(Attr::Filename),
+            ErrorKind::DuplicateName { .. } | ErrorKind::NameTooLong { .. } => Some(self.name_at),
+            other => other.attribute().and_then(|a| self.slot(a)).map(|s| s.at),
+        };
+        found.unwrap_or(self.keyword_at)
+    }
+}
+
+const fn is_object(entity: Entity) -> bool {
+    matches!(
+        entity,
+        Entity::Plane | Entity::Sphere | Entity::FPlane | Entity::TiledPlane | Entity::TexPlane
+    )
+}
+
+fn is_keyword(token: Tok<'_>) -> bool {
+    let attributes = Entity::ALL.iter().flat_map(|&e| attributes_of(e).iter());
+    attributes.map(|a| a.keyword()).chain(Entity::ALL.iter().map(|e| e.keyword())).any(|k| token.is(k.as_bytes()))
+}
+
+pub(super) fn parse<
+    't,
+    S: Scalar,
+    const OBJECTS: usize,
+    const MATERIALS: usize,
+    const LIGHTS: usize,
+    const TEXTURES: usize,
+    const MAX_WIDTH: usize,
+>(
+    text: &[u8],
+    mut textures: impl FnMut(&str) -> Result<&'t [u8], TextureError>,
+) -> Result<Scene<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>, Error> {
+    let mut cursor = Cursor { text, rest: text };
+    let mut builder = SceneBuilder::new();
+    while let Some(keyword) = cursor.next()? {
+        let entity = Entity::ALL
+            .iter()
+            .copied()
+            .find(|e| keyword.is(e.keyword().as_bytes()))
+            .ok_or_else(|| {
+                cursor.error(ErrorKind::UnknownEntity { found: Snippet::new(keyword.bytes) }, keyword.at)
+            })?;
+        let block = parse_block(&mut cursor, entity, keyword)?;
+        add(&mut builder, &block, &mut textures)
+            .map_err(|kind| cursor.error(kind, block.offset_of(&kind)))?;
+    }
+    builder.build().map_err(|kind| cursor.error(kind, text.len()))
+}
+
+fn parse_block<'i>(c: &mut Cursor<'i>, entity: Entity, keyword: Tok<'i>) -> Result<Block<'i>, Error> {
+    let name = match c.next()? {
+        Some(t) if !t.is_brace() => t,
+        other => {
+            let at = other.map_or(c.text.len(), |t| t.at);
+            return Err(c.error(ErrorKind::ExpectedName { entity, found: snippet(other) }, at));
+        }
+    };
+    let name_text = c.text_of(name, NAME_CAPACITY)?;
+    let open = match c.next()? {
+        Some(t) if t.is(b"{") => t,
+        other => {
+            let at = other.map_or(c.text.len(), |t| t.at);
+            return Err(c.error(ErrorKind::ExpectedOpenBrace { entity, found: snippet(other) }, at));
+        }
+    };
+    let mut block = Block {
+        entity,
+        keyword_at: keyword.at,
+        name: name_text,
+        name_at: name.at,
+        slots: [None; Attr::COUNT],
+    };
+    let mut first = true;
+    loop {
+        let Some(token) = c.next()? else {
+            let opened = Position::of_offset(c.text, open.at);
+            return Err(c.error(ErrorKind::UnclosedBlock { entity, opened }, c.text.len()));
+        };
+        if token.is(b"}") {
+            return Ok(block);
+        }
+        let attr = attributes_of(entity)
+            .iter()
+            .copied()
+            .find(|a| token.is(a.keyword().as_bytes()))
+            .ok_or_else(|| {
+                c.error(ErrorKind::UnknownAttribute { entity, found: Snippet::new(token.bytes) }, token.at)
+            })?;
+        if first && is_object(entity) && attr != Attr::Material {
+            return Err(c.error(ErrorKind::MaterialNotFirst { entity }, token.at));
+        }
+        first = false;
+        if block.slot(attr).is_some() {
+            return Err(c.error(ErrorKind::DuplicateAttribute { attr }, token.at));
+        }
+        let (value, value_at) = parse_values(c, attr)?;
+        if let Some(slot) = block.slots.get_mut(attr as usize) {
+            *slot = Some(Slot { at: token.at, value_at, value });
+        }
+    }
+}
+
+fn parse_values<'i>(c: &mut Cursor<'i>, attr: Attr) -> Result<(Value<'i>, usize), Error> {
+    let (count, whole) = match values_of(attr) {
+        Values::Word => {
+            return match c.next()? {
+                Some(t) if !t.is_brace() => {
+                    let max = if attr == Attr::Filename { PATH_CAPACITY } else { usize::MAX };
+                    Ok((Value::Word(c.text_of(t, max)?), t.at))
+                }
+                other => {
+                    let at = other.map_or(c.text.len(), |t| t.at);
+                    Err(c.error(ErrorKind::ExpectedWord { attr, found: snippet(other) }, at))
+                }
+            };
+        }
+        Values::Numbers(n) => (n, false),
+        Values::Integers(n) => (n, true),
+    };
+    let mut values = [0.0; 3];
+    let mut first_at = c.text.len();
+    for (index, slot) in (0u8..).zip(values.iter_mut().take(usize::from(count))) {
+        let token = c.peek()?;
+        let Some(t) = token else {
+            let kind = ErrorKind::MissingValues { attr, expected: count, found: index, next: Snippet::END };
+            return Err(c.error(kind, c.text.len()));
+        };
+        let kind = match parse_number(t.bytes) {
+            Ok(v) if whole && v != libm::trunc(v) => {
+                ErrorKind::NotAnInteger { attr, found: Snippet::new(t.bytes) }
+            }
+            Ok(v) => {
+                *slot = v;
+                if index == 0 {
+                    first_at = t.at;
+                }
+                c.advance(t);
+                continue;
+            }
+            Err(NumberError::NotFinite) => ErrorKind::NotFinite { found: Snippet::new(t.bytes) },
+            Err(NumberError::TooLarge) => ErrorKind::NumberTooLarge { found: Snippet::new(t.bytes) },
+            Err(NumberError::NotANumber) if t.is_brace() || is_keyword(t) => {
+                ErrorKind::MissingValues { attr, expected: count, found: index, next: Snippet::new(t.bytes) }
+            }
+            Err(NumberError::NotANumber) => ErrorKind::NotANumber { attr, found: Snippet::new(t.bytes) },
+        };
+        return Err(c.error(kind, t.at));
+    }
+    if let Some(t) = c.peek()? {
+        if !matches!(parse_number(t.bytes), Err(NumberError::NotANumber)) {
+            return Err(c.error(ErrorKind::ExtraValue { attr, expected: count }, t.at));
+        }
+    }
+    Ok((Value::Numbers(values), first_at))
+}
+
+/// A whole number of pixels; negative is 0 and huge saturates, so the camera's checks
+/// report them.
+fn pixels(v: f64) -> u32 {
+    v.clamp(0.0, f64::from(u32::MAX)) as u32
+}
+
+fn rect(block: &Block<'_>) -> Result<RectDef, ErrorKind> {
+    Ok(RectDef {
+        normal: block.numbers(Attr::Normal)?,
+        point: block.numbers(Attr::Point)?,
+        xdir: block.numbers(Attr::Xdir)?,
+        dimensions: block.numbers(Attr::Dimensions)?,
+    })
+}
+
+fn add<
+    't,
+    S: Scalar,
+    const OBJECTS: usize,
+    const MATERIALS: usize,
+    const LIGHTS: usize,
+    const TEXTURES: usize,
+    const MAX_WIDTH: usize,
+>(
+    builder: &mut SceneBuilder<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>,
+    block: &Block<'_>,
+    textures: &mut impl FnMut(&str) -> Result<&'t [u8], TextureError>,
+) -> Result<(), ErrorKind> {
+    let name = block.name;
+    let shape = match block.entity {
+        Entity::Camera => {
+            let [w, h] = block.numbers::<2>(Attr::Pixeldim)?;
+            return builder.camera(&CameraDef::new(
+                name,
+                [pixels(w), pixels(h)],
+                block.numbers(Attr::Worlddim)?,
+                block.numbers(Attr::Viewpoint)?,
+            ));
+        }
+        Entity::Material => {
+            let [specular, shininess, transparency] =
+                [Attr::Specular, Attr::Shininess, Attr::Transparency]
+                    .map(|a| block.numbers_or_zero::<1>(a)[0]);
+            return builder.material(&MaterialDef {
+                name,
+                ambient: block.numbers_or_zero(Attr::Ambient),
+                diffuse: block.numbers_or_zero(Attr::Diffuse),
+                specular,
+                shininess,
+                transparency,
+            });
+        }
+        Entity::Light => {
+            let location = block.numbers(Attr::Location)?;
+            return builder.light(&LightDef::point(name, location, block.numbers(Attr::Emissivity)?));
+        }
+        Entity::Spotlight => {
+            return builder.light(&LightDef::spot(
+                name,
+                block.numbers(Attr::Location)?,
+                block.numbers(Attr::Emissivity)?,
+                block.numbers(Attr::Point)?,
+                block.numbers::<1>(Attr::Theta)?[0],
+            ));
+        }
+        Entity::Texture => {
+            let filename = block.word(Attr::Filename)?;
+            let ppm = textures(filename).map_err(|error| ErrorKind::Texture {
+                file: Snippet::new(filename.as_bytes()),
+                error,
+            })?;
+            return builder.texture(&TextureDef { name, filename, ppm });
+        }
+        Entity::Plane => ShapeDef::Plane(PlaneDef {
+            normal: block.numbers(Attr::Normal)?,
+            point: block.numbers(Attr::Point)?,
+        }),
+        Entity::Sphere => ShapeDef::Sphere(SphereDef {
+            center: block.numbers(Attr::Center)?,
+            radius: block.numbers::<1>(Attr::Radius)?[0],
+        }),
+        Entity::FPlane => ShapeDef::FPlane(rect(block)?),
+        Entity::TiledPlane => ShapeDef::TiledPlane(rect(block)?, block.word(Attr::Altmaterial)?),
+        Entity::TexPlane => {
+            let mode = match block.numbers::<1>(Attr::Mode)?[0] {
+                0.0 => TextureMode::Fit,
+                1.0 => TextureMode::Tile,
+                _ => return Err(ErrorKind::OutOfRange { attr: Attr::Mode, range: Range::ZeroOrOne }),
+            };
+            ShapeDef::TexPlane(rect(block)?, block.word(Attr::Texname)?, mode)
+        }
+    };
+    let material = block.word(Attr::Material)?;
+    builder.object(&ObjectDef { name, material, shape })
+}

@@ -1,0 +1,82 @@
+//! The scene language: a nom parser over bytes, no allocation.
+//!
+//! The whole language of the course (see `SCENE-FORMAT.md` in the project's shared notes) plus
+//! `#` comments: `ENTITY NAME { ATTRIBUTE VALUES ... }` blocks of whitespace-separated
+//! tokens. Every error names the line and column, and what was expected there. The parser
+//! never recurses (blocks do not nest), so no input can exhaust the stack, and every loop
+//! consumes input, so none can hang.
+//!
+//! Texture files are asked of a caller-supplied resolver by file name: firmware returns an
+//! `include_bytes!` slice, the host tracer reads the file (see `microray::host`).
+
+mod grammar;
+pub mod number;
+
+use crate::error::{Attr, Entity, Error, TextureError};
+use crate::scalar::Scalar;
+use crate::scene::Scene;
+
+/// Parses scene text into a scene with the capacities of the scene type.
+///
+/// `textures` maps a texture's file name (as written) to the file's bytes.
+pub fn parse_scene<
+    't,
+    S: Scalar,
+    const OBJECTS: usize,
+    const MATERIALS: usize,
+    const LIGHTS: usize,
+    const TEXTURES: usize,
+    const MAX_WIDTH: usize,
+>(
+    text: &[u8],
+    textures: impl FnMut(&str) -> Result<&'t [u8], TextureError>,
+) -> Result<Scene<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>, Error> {
+    grammar::parse(text, textures)
+}
+
+/// A texture resolver for scenes without textures: every file is "not found".
+pub fn no_textures<'t>(_filename: &str) -> Result<&'t [u8], TextureError> {
+    Err(TextureError::NotFound)
+}
+
+/// The attributes an entity takes, in the order the printer writes them.
+pub const fn attributes_of(entity: Entity) -> &'static [Attr] {
+    use Attr::*;
+    match entity {
+        Entity::Camera => &[Pixeldim, Worlddim, Viewpoint],
+        Entity::Material => &[Ambient, Diffuse, Specular, Shininess, Transparency],
+        Entity::Light => &[Location, Emissivity],
+        Entity::Spotlight => &[Location, Emissivity, Point, Theta],
+        Entity::Plane => &[Material, Normal, Point],
+        Entity::Sphere => &[Material, Center, Radius],
+        Entity::FPlane => &[Material, Normal, Point, Xdir, Dimensions],
+        Entity::TiledPlane => &[Material, Normal, Point, Xdir, Dimensions, Altmaterial],
+        Entity::Texture => &[Filename],
+        Entity::TexPlane => &[Material, Normal, Point, Xdir, Dimensions, Texname, Mode],
+    }
+}
+
+/// What values an attribute takes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Values {
+    /// This many decimal numbers.
+    Numbers(u8),
+    /// This many whole numbers.
+    Integers(u8),
+    /// One name (of a material or texture) or file name.
+    Word,
+}
+
+pub(crate) const fn values_of(attr: Attr) -> Values {
+    use Attr::*;
+    match attr {
+        Pixeldim => Values::Integers(2),
+        Mode => Values::Integers(1),
+        Worlddim | Dimensions => Values::Numbers(2),
+        Specular | Shininess | Transparency | Theta | Radius => Values::Numbers(1),
+        Viewpoint | Ambient | Diffuse | Location | Emissivity | Point | Normal | Center | Xdir => {
+            Values::Numbers(3)
+        }
+        Material | Altmaterial | Filename | Texname => Values::Word,
+    }
+}

@@ -1,0 +1,196 @@
+//! The number type the tracer computes in.
+//!
+//! All geometry is generic over [`Scalar`] and monomorphised per type, so choosing a number
+//! type costs nothing at run time. The trait asks only for what a fixed-point type can also
+//! provide well: the four operations, negation, comparison, a square root, conversion from and
+//! to `f64`, and a few constants.
+//!
+//! | type | range | error (per operation) |
+//! |---|---|---|
+//! | `f64` | ±1.8e308 | correctly rounded, 2^-53 relative |
+//! | `f32` | ±3.4e38 | correctly rounded, 2^-24 relative |
+
+use core::fmt;
+use core::ops::{Add, Div, Mul, Neg, Sub};
+
+/// A real-number type the tracer can compute in.
+///
+/// Implementations must not panic for any input: division by zero, the square root of a
+/// negative number and out-of-range conversions all give a defined value.
+pub trait Scalar:
+    Copy
+    + fmt::Debug
+    + PartialEq
+    + PartialOrd
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + 'static
+{
+    /// The name used on the command line and in reports (`f64`, `f32`, ...).
+    const NAME: &'static str;
+    /// Zero.
+    const ZERO: Self;
+    /// One.
+    const ONE: Self;
+    /// Two.
+    const TWO: Self;
+
+    /// The nearest value of this type (saturating where the type's range ends).
+    fn from_f64(value: f64) -> Self;
+    /// The value as an `f64` (exact for every type microray has).
+    fn to_f64(self) -> f64;
+    /// The square root; the root of a negative number is defined as zero.
+    fn sqrt(self) -> Self;
+    /// The largest integer not above the value, saturated to the `i64` range.
+    fn floor_to_i64(self) -> i64;
+    /// Writes the shortest decimal text that reads back as exactly this value.
+    fn write_shortest(self, out: &mut dyn fmt::Write) -> fmt::Result;
+
+    /// The absolute value.
+    #[inline]
+    fn abs(self) -> Self {
+        if self < Self::ZERO { -self } else { self }
+    }
+    /// The smaller of two values (`self` when they compare equal or unordered).
+    #[inline]
+    fn min(self, other: Self) -> Self {
+        if other < self { other } else { self }
+    }
+    /// The larger of two values (`self` when they compare equal or unordered).
+    #[inline]
+    fn max(self, other: Self) -> Self {
+        if other > self { other } else { self }
+    }
+}
+
+impl Scalar for f64 {
+    const NAME: &'static str = "f64";
+    const ZERO: Self = 0.0;
+    const ONE: Self = 1.0;
+    const TWO: Self = 2.0;
+
+    #[inline]
+    fn from_f64(value: f64) -> Self {
+        value
+    }
+    #[inline]
+    fn to_f64(self) -> f64 {
+        self
+    }
+    #[inline]
+    fn sqrt(self) -> Self {
+        if self > 0.0 { libm::sqrt(self) } else { 0.0 }
+    }
+    #[inline]
+    fn floor_to_i64(self) -> i64 {
+        // `as` saturates and maps NaN to 0: never undefined, never a panic.
+        libm::floor(self) as i64
+    }
+    fn write_shortest(self, out: &mut dyn fmt::Write) -> fmt::Result {
+        write_shortest_float(self, out)
+    }
+}
+
+impl Scalar for f32 {
+    const NAME: &'static str = "f32";
+    const ZERO: Self = 0.0;
+    const ONE: Self = 1.0;
+    const TWO: Self = 2.0;
+
+    #[inline]
+    fn from_f64(value: f64) -> Self {
+        value as f32
+    }
+    #[inline]
+    fn to_f64(self) -> f64 {
+        f64::from(self)
+    }
+    #[inline]
+    fn sqrt(self) -> Self {
+        if self > 0.0 { libm::sqrtf(self) } else { 0.0 }
+    }
+    #[inline]
+    fn floor_to_i64(self) -> i64 {
+        libm::floorf(self) as i64
+    }
+    fn write_shortest(self, out: &mut dyn fmt::Write) -> fmt::Result {
+        write_shortest_float(self, out)
+    }
+}
+
+/// Counts the bytes a formatting would write, without storing them.
+struct Counter(usize);
+
+impl fmt::Write for Counter {
+    fn write_str(&mut self, s: &str) -> fmt::Result {
+        self.0 = self.0.saturating_add(s.len());
+        Ok(())
+    }
+}
+
+/// Writes a float with the fewest characters that read back exactly.
+///
+/// `core` formats both `{}` and `{:e}` with the shortest round-trip digits; the plain form is
+/// chosen unless the exponent form is shorter (`1e-7` rather than `0.0000001`).
+fn write_shortest_float<T: fmt::Display + fmt::LowerExp>(
+    value: T,
+    out: &mut dyn fmt::Write,
+) -> fmt::Result {
+    let mut plain = Counter(0);
+    let mut exponent = Counter(0);
+    fmt::write(&mut plain, format_args!("{value}"))?;
+    fmt::write(&mut exponent, format_args!("{value:e}"))?;
+    if exponent.0 < plain.0 {
+        write!(out, "{value:e}")
+    } else {
+        write!(out, "{value}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn shortest<S: Scalar>(v: S) -> std::string::String {
+        let mut s = std::string::String::new();
+        v.write_shortest(&mut s).unwrap();
+        s
+    }
+
+    #[test]
+    fn shortest_text_prefers_the_shorter_form() {
+        assert_eq!(shortest(640.0f64), "640");
+        assert_eq!(shortest(0.8f64), "0.8");
+        assert_eq!(shortest(-6.93f64), "-6.93");
+        assert_eq!(shortest(1e-7f64), "1e-7");
+        assert_eq!(shortest(100000.0f64), "1e5");
+        assert_eq!(shortest(0.1f32), "0.1");
+        assert_eq!(shortest(-0.0f64), "-0");
+    }
+
+    #[test]
+    fn shortest_text_reads_back_exactly() {
+        for v in [0.1f64, 1.0 / 3.0, 2.121, 1e300, 5e-324, -123456.789e-20, 6.02214076e23] {
+            assert_eq!(shortest(v).parse::<f64>().unwrap(), v);
+        }
+    }
+
+    #[test]
+    fn square_root_of_negative_is_zero() {
+        assert_eq!(Scalar::sqrt(-4.0f64), 0.0);
+        assert_eq!(Scalar::sqrt(-4.0f32), 0.0);
+        assert_eq!(Scalar::sqrt(f64::NAN), 0.0);
+        assert_eq!(Scalar::sqrt(9.0f64), 3.0);
+    }
+
+    #[test]
+    fn floor_saturates() {
+        assert_eq!((-0.5f64).floor_to_i64(), -1);
+        assert_eq!(1e300f64.floor_to_i64(), i64::MAX);
+        assert_eq!(f64::NAN.floor_to_i64(), 0);
+        assert_eq!((2.5f32).floor_to_i64(), 2);
+    }
+}

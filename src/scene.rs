@@ -1,0 +1,344 @@
+//! The scene: camera, materials, lights, textures and objects in bounded lists.
+//!
+//! Capacities are const generics with defaults, as in `heapless`: a firmware build sizes its
+//! scene in the type (`Scene<'static, f32, 8, 4, 2, 0, 240>`), and adding past a capacity is
+//! an [`ErrorKind::CapacityExceeded`], never a panic.
+
+use crate::camera::{Camera, CameraDef};
+use crate::error::{Collection, Entity, Error, ErrorKind, Snippet};
+use crate::light::{Light, LightDef};
+use crate::material::{Material, MaterialDef, MaterialId};
+use crate::object::{Hit, Object, ObjectDef, Palette};
+use crate::ray::Ray;
+use crate::scalar::Scalar;
+use crate::texture::{Texture, TextureDef};
+use heapless::Vec;
+
+/// The default widest image: the renderer keeps one row of this many pixels.
+pub const DEFAULT_MAX_WIDTH: usize = 1024;
+
+/// A checked scene. Build one with [`SceneBuilder`], [`Scene::from_defs`] or the parser.
+///
+/// `'t` is the lifetime of texture bytes; the capacities are `OBJECTS`, `MATERIALS`,
+/// `LIGHTS`, `TEXTURES` and the widest image `MAX_WIDTH`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene<
+    't,
+    S: Scalar,
+    const OBJECTS: usize = 32,
+    const MATERIALS: usize = 16,
+    const LIGHTS: usize = 8,
+    const TEXTURES: usize = 16,
+    const MAX_WIDTH: usize = DEFAULT_MAX_WIDTH,
+> {
+    camera: Camera<S>,
+    materials: Vec<Material<S>, MATERIALS>,
+    lights: Vec<Light<S>, LIGHTS>,
+    textures: Vec<Texture<'t>, TEXTURES>,
+    objects: Vec<Object<S>, OBJECTS>,
+}
+
+/// Collects a scene's parts, checking each as it comes; [`build`](Self::build) needs a camera.
+///
+/// Materials and textures must be added before the objects that name them, as in the files.
+#[derive(Clone, Debug)]
+pub struct SceneBuilder<
+    't,
+    S: Scalar,
+    const OBJECTS: usize = 32,
+    const MATERIALS: usize = 16,
+    const LIGHTS: usize = 8,
+    const TEXTURES: usize = 16,
+    const MAX_WIDTH: usize = DEFAULT_MAX_WIDTH,
+> {
+    camera: Option<Camera<S>>,
+    materials: Vec<Material<S>, MATERIALS>,
+    lights: Vec<Light<S>, LIGHTS>,
+    textures: Vec<Texture<'t>, TEXTURES>,
+    objects: Vec<Object<S>, OBJECTS>,
+}
+
+fn capacity_error(what: Collection, capacity: usize) -> ErrorKind {
+    ErrorKind::CapacityExceeded { what, capacity: u16::try_from(capacity).unwrap_or(u16::MAX) }
+}
+
+impl<
+    't,
+    S: Scalar,
+    const OBJECTS: usize,
+    const MATERIALS: usize,
+    const LIGHTS: usize,
+    const TEXTURES: usize,
+    const MAX_WIDTH: usize,
+> Default for SceneBuilder<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>
+{
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<
+    't,
+    S: Scalar,
+    const OBJECTS: usize,
+    const MATERIALS: usize,
+    const LIGHTS: usize,
+    const TEXTURES: usize,
+    const MAX_WIDTH: usize,
+> SceneBuilder<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>
+{
+    /// An empty builder.
+    pub const fn new() -> Self {
+        Self {
+            camera: None,
+            materials: Vec::new(),
+            lights: Vec::new(),
+            textures: Vec::new(),
+            objects: Vec::new(),
+        }
+    }
+
+    /// Sets the camera; a second one is an error.
+    pub fn camera(&mut self, def: &CameraDef<'_>) -> Result<(), ErrorKind> {
+        if self.camera.is_some() {
+            return Err(ErrorKind::SecondCamera);
+        }
+        self.camera = Some(Camera::build(def, MAX_WIDTH)?);
+        Ok(())
+    }
+
+    /// Adds a material; its name must be new.
+    pub fn material(&mut self, def: &MaterialDef<'_>) -> Result<(), ErrorKind> {
+        if self.find_material(def.name).is_some() {
+            return Err(ErrorKind::DuplicateName {
+                entity: Entity::Material,
+                name: Snippet::new(def.name.as_bytes()),
+            });
+        }
+        if self.materials.is_full() || u16::try_from(self.materials.len()).is_err() {
+            return Err(capacity_error(Collection::Materials, MATERIALS));
+        }
+        let material = Material::build(def)?;
+        self.materials
+            .push(material)
+            .map_err(|_| capacity_error(Collection::Materials, MATERIALS))
+    }
+
+    /// Adds a light or spotlight.
+    pub fn light(&mut self, def: &LightDef<'_>) -> Result<(), ErrorKind> {
+        if self.lights.is_full() {
+            return Err(capacity_error(Collection::Lights, LIGHTS));
+        }
+        let light = Light::build(def)?;
+        self.lights.push(light).map_err(|_| capacity_error(Collection::Lights, LIGHTS))
+    }
+
+    /// Adds a texture, decoding its PPM bytes; its name must be new.
+    pub fn texture(&mut self, def: &TextureDef<'_, 't>) -> Result<(), ErrorKind> {
+        if self.find_texture(def.name).is_some() {
+            return Err(ErrorKind::DuplicateName {
+                entity: Entity::Texture,
+                name: Snippet::new(def.name.as_bytes()),
+            });
+        }
+        if self.textures.is_full() || u16::try_from(self.textures.len()).is_err() {
+            return Err(capacity_error(Collection::Textures, TEXTURES));
+        }
+        let texture = Texture::build(def)?;
+        self.textures
+            .push(texture)
+            .map_err(|_| capacity_error(Collection::Textures, TEXTURES))
+    }
+
+    /// Adds an object; the materials and texture it names must already be there.
+    pub fn object(&mut self, def: &ObjectDef<'_>) -> Result<(), ErrorKind> {
+        if self.objects.is_full() {
+            return Err(capacity_error(Collection::Objects, OBJECTS));
+        }
+        let object = Object::build(def, |n| self.find_material(n), |n| self.find_texture(n))?;
+        self.objects.push(object).map_err(|_| capacity_error(Collection::Objects, OBJECTS))
+    }
+
+    /// The finished scene; it must have a camera.
+    pub fn build(self) -> Result<Scene<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>, ErrorKind> {
+        Ok(Scene {
+            camera: self.camera.ok_or(ErrorKind::NoCamera)?,
+            materials: self.materials,
+            lights: self.lights,
+            textures: self.textures,
+            objects: self.objects,
+        })
+    }
+
+    fn find_material(&self, name: &str) -> Option<MaterialId> {
+        let index = self.materials.iter().position(|m| m.name() == name)?;
+        MaterialId::try_from(index).ok()
+    }
+
+    fn find_texture(&self, name: &str) -> Option<u16> {
+        let index = self.textures.iter().position(|t| t.name() == name)?;
+        u16::try_from(index).ok()
+    }
+}
+
+impl<
+    't,
+    S: Scalar,
+    const OBJECTS: usize,
+    const MATERIALS: usize,
+    const LIGHTS: usize,
+    const TEXTURES: usize,
+    const MAX_WIDTH: usize,
+> Scene<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>
+{
+    /// A scene from definitions in Rust source, for firmware that embeds its scene without
+    /// the parser. Errors carry no position.
+    ///
+    /// ```
+    /// use microray::{CameraDef, LightDef, MaterialDef, ObjectDef, Scene};
+    ///
+    /// const CAMERA: CameraDef = CameraDef::new("cam", [160, 120], [8.0, 6.0], [4.0, 3.0, 4.0]);
+    /// const MATERIALS: [MaterialDef; 1] = [MaterialDef::new("red").diffuse([4.0, 0.0, 0.0])];
+    /// const LIGHTS: [LightDef; 1] = [LightDef::point("sun", [4.0, 8.0, 2.0], [5.0, 5.0, 5.0])];
+    /// const OBJECTS: [ObjectDef; 1] = [ObjectDef::sphere("ball", "red", [4.0, 3.0, -6.0], 2.0)];
+    ///
+    /// let scene: Scene<f32, 4, 2, 1, 0, 160> =
+    ///     Scene::from_defs(&CAMERA, &MATERIALS, &[], &LIGHTS, &OBJECTS)?;
+    /// assert_eq!(scene.objects()[0].name(), "ball");
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn from_defs(
+        camera: &CameraDef<'_>,
+        materials: &[MaterialDef<'_>],
+        textures: &[TextureDef<'_, 't>],
+        lights: &[LightDef<'_>],
+        objects: &[ObjectDef<'_>],
+    ) -> Result<Self, Error> {
+        let mut builder = SceneBuilder::new();
+        builder.camera(camera)?;
+        for def in materials {
+            builder.material(def)?;
+        }
+        for def in textures {
+            builder.texture(def)?;
+        }
+        for def in lights {
+            builder.light(def)?;
+        }
+        for def in objects {
+            builder.object(def)?;
+        }
+        Ok(builder.build()?)
+    }
+
+    /// The camera.
+    pub fn camera(&self) -> &Camera<S> {
+        &self.camera
+    }
+    /// The materials, in definition order.
+    pub fn materials(&self) -> &[Material<S>] {
+        &self.materials
+    }
+    /// The lights, in definition order.
+    pub fn lights(&self) -> &[Light<S>] {
+        &self.lights
+    }
+    /// The textures, in definition order.
+    pub fn textures(&self) -> &[Texture<'t>] {
+        &self.textures
+    }
+    /// The objects, in definition order.
+    pub fn objects(&self) -> &[Object<S>] {
+        &self.objects
+    }
+
+    /// What the objects' surface look-ups and printers need.
+    pub fn palette(&self) -> Palette<'_, S> {
+        Palette { materials: &self.materials, textures: &self.textures, camera: &self.camera }
+    }
+
+    /// The nearest hit with `t > 0` over all objects, skipping object `skip` (the one the
+    /// ray leaves from); ties go to the object defined first.
+    pub fn closest_hit(&self, ray: &Ray<S>, skip: Option<usize>) -> Option<(usize, Hit<S>)> {
+        let mut best: Option<(usize, Hit<S>)> = None;
+        for (index, object) in self.objects.iter().enumerate() {
+            if Some(index) == skip {
+                continue;
+            }
+            if let Some(hit) = object.hits(ray) {
+                if best.as_ref().is_none_or(|(_, b)| hit.t < b.t) {
+                    best = Some((index, hit));
+                }
+            }
+        }
+        best
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::vec3::Vec3;
+
+    const CAMERA: CameraDef<'static> = CameraDef::new("c", [64, 48], [8.0, 6.0], [4.0, 3.0, 3.0]);
+
+    #[test]
+    fn capacities_are_errors() {
+        let mut b: SceneBuilder<'_, f32, 1, 1, 1, 0, 64> = SceneBuilder::new();
+        b.camera(&CAMERA).unwrap();
+        assert_eq!(b.camera(&CAMERA), Err(ErrorKind::SecondCamera));
+        b.material(&MaterialDef::new("m")).unwrap();
+        assert_eq!(
+            b.material(&MaterialDef::new("n")),
+            Err(ErrorKind::CapacityExceeded { what: Collection::Materials, capacity: 1 })
+        );
+        b.light(&LightDef::point("l", [0.0; 3], [1.0; 3])).unwrap();
+        assert_eq!(
+            b.light(&LightDef::point("l", [0.0; 3], [1.0; 3])),
+            Err(ErrorKind::CapacityExceeded { what: Collection::Lights, capacity: 1 })
+        );
+        b.object(&ObjectDef::sphere("s", "m", [0.0, 0.0, -5.0], 1.0)).unwrap();
+        assert_eq!(
+            b.object(&ObjectDef::sphere("s", "m", [0.0, 0.0, -5.0], 1.0)),
+            Err(ErrorKind::CapacityExceeded { what: Collection::Objects, capacity: 1 })
+        );
+    }
+
+    #[test]
+    fn image_wider_than_the_row_buffer() {
+        let mut b: SceneBuilder<'_, f32, 1, 1, 1, 0, 63> = SceneBuilder::new();
+        assert_eq!(b.camera(&CAMERA), Err(ErrorKind::ImageTooWide { width: 64, max: 63 }));
+    }
+
+    #[test]
+    fn closest_hit_skips_and_prefers_the_first_on_ties() {
+        let scene: Scene<'_, f64> = Scene::from_defs(
+            &CAMERA,
+            &[MaterialDef::new("m")],
+            &[],
+            &[],
+            &[
+                ObjectDef::plane("back", "m", [0.0, 0.0, 1.0], [0.0, 0.0, -8.0]),
+                ObjectDef::plane("twin", "m", [0.0, 0.0, 1.0], [0.0, 0.0, -8.0]),
+                ObjectDef::sphere("ball", "m", [0.0, 0.0, -5.0], 1.0),
+            ],
+        )
+        .unwrap();
+        let ray = Ray::new(Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.0, 0.0, -1.0));
+        assert_eq!(scene.closest_hit(&ray, None).unwrap().0, 2);
+        assert_eq!(scene.closest_hit(&ray, Some(2)).unwrap().0, 0);
+        assert_eq!(scene.closest_hit(&ray, Some(0)).unwrap().0, 2);
+        let away = Ray::new(Vec3::new(0.0, 0.0, -1.0), Vec3::new(0.0, 0.0, 1.0));
+        assert_eq!(scene.closest_hit(&away, None), None);
+    }
+
+    #[test]
+    fn undefined_and_duplicate_names() {
+        let mut b: SceneBuilder<'_, f64> = SceneBuilder::new();
+        b.material(&MaterialDef::new("m")).unwrap();
+        assert!(matches!(b.material(&MaterialDef::new("m")), Err(ErrorKind::DuplicateName { .. })));
+        let err = b.object(&ObjectDef::sphere("s", "nope", [0.0; 3], 1.0)).unwrap_err();
+        assert_eq!(err.to_string(), "undefined material `nope` (materials must be defined before the objects that use them)");
+        assert_eq!(b.build(), Err(ErrorKind::NoCamera));
+    }
+}

@@ -3,7 +3,7 @@
 use crate::error::{Attr, ErrorKind};
 use crate::name::{Name, bounded};
 use crate::print;
-use crate::scalar::Scalar;
+use crate::scalar::{Scalar, load2, load3};
 use crate::vec3::Vec3;
 use core::fmt;
 
@@ -28,7 +28,12 @@ impl<'a> CameraDef<'a> {
         worlddim: [f64; 2],
         viewpoint: [f64; 3],
     ) -> Self {
-        Self { name, pixeldim, worlddim, viewpoint }
+        Self {
+            name,
+            pixeldim,
+            worlddim,
+            viewpoint,
+        }
     }
 }
 
@@ -50,7 +55,9 @@ impl<S: Scalar> Camera<S> {
             return Err(ErrorKind::PixeldimTooSmall);
         }
         if usize::try_from(width).map_or(true, |w| w > max_width) || width > u32::from(u16::MAX) {
-            let max = u32::try_from(max_width).unwrap_or(u32::MAX).min(u32::from(u16::MAX));
+            let max = u32::try_from(max_width)
+                .unwrap_or(u32::MAX)
+                .min(u32::from(u16::MAX));
             return Err(ErrorKind::ImageTooWide { width, max });
         }
         let height = u16::try_from(height).map_err(|_| ErrorKind::ImageTooTall { height })?;
@@ -58,17 +65,19 @@ impl<S: Scalar> Camera<S> {
             width,
             max: u32::from(u16::MAX),
         })?;
-        crate::material::check_finite(&def.worlddim, Attr::Worlddim)?;
-        crate::material::check_finite(&def.viewpoint, Attr::Viewpoint)?;
-        if def.worlddim.iter().any(|&w| w <= 0.0) {
-            return Err(ErrorKind::NotPositive { attr: Attr::Worlddim });
+        let world = load2::<S>(def.worlddim, Attr::Worlddim)?;
+        let viewpoint = load3(def.viewpoint, Attr::Viewpoint)?;
+        if def.worlddim.iter().any(|&w| w <= 0.0) || world.iter().any(|&w| w <= S::ZERO) {
+            return Err(ErrorKind::NotPositive {
+                attr: Attr::Worlddim,
+            });
         }
         Ok(Self {
             name: bounded(def.name)?,
             width,
             height,
-            world: [S::from_f64(def.worlddim[0]), S::from_f64(def.worlddim[1])],
-            viewpoint: Vec3::from_f64(def.viewpoint),
+            world,
+            viewpoint,
         })
     }
 

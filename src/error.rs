@@ -15,7 +15,10 @@ impl Position {
     /// The position of byte `offset` in `text` (clamped to the end of the text).
     pub fn of_offset(text: &[u8], offset: usize) -> Self {
         let before = text.get(..offset).unwrap_or(text);
-        let line_start = before.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+        let line_start = before
+            .iter()
+            .rposition(|&b| b == b'\n')
+            .map_or(0, |i| i + 1);
         let lines = before.iter().filter(|&&b| b == b'\n').count();
         // Characters, not bytes: count every byte that does not continue a UTF-8 sequence.
         let columns = before
@@ -51,12 +54,18 @@ pub struct Error {
 impl Error {
     /// An error with no position (scene built in source).
     pub const fn new(kind: ErrorKind) -> Self {
-        Self { kind, position: None }
+        Self {
+            kind,
+            position: None,
+        }
     }
 
     /// An error at a position.
     pub const fn at(kind: ErrorKind, position: Position) -> Self {
-        Self { kind, position: Some(position) }
+        Self {
+            kind,
+            position: Some(position),
+        }
     }
 }
 
@@ -271,7 +280,9 @@ impl fmt::Display for TextureError {
             TextureError::NotBinaryPpm => "not a binary PPM image (it must start with `P6`)",
             TextureError::BadHeader => "malformed PPM header (expected width, height and 255)",
             TextureError::BadSize => "image width and height must be 1 to 65535",
-            TextureError::UnsupportedMaxValue => "only 8-bit PPM images (maximum value 255) are supported",
+            TextureError::UnsupportedMaxValue => {
+                "only 8-bit PPM images (maximum value 255) are supported"
+            }
             TextureError::Truncated => "the file ends before the last pixel",
         })
     }
@@ -292,8 +303,12 @@ impl Snippet {
     const CAPACITY: usize = 32;
 
     /// The end of the input, shown as "end of file".
-    pub const END: Snippet =
-        Snippet { bytes: [0; Self::CAPACITY], len: 0, cut: false, end_of_input: true };
+    pub const END: Snippet = Snippet {
+        bytes: [0; Self::CAPACITY],
+        len: 0,
+        cut: false,
+        end_of_input: true,
+    };
 
     /// A copy of (the start of) `text`.
     pub fn new(text: &[u8]) -> Self {
@@ -443,6 +458,13 @@ pub enum ErrorKind {
         /// The attribute.
         attr: Attr,
     },
+    /// A value (or one computed from it at load) beyond the range of the scene's number type.
+    BeyondRange {
+        /// The attribute.
+        attr: Attr,
+        /// The number type's name.
+        number_type: &'static str,
+    },
     /// A number beyond the range of `f64`.
     NumberTooLarge {
         /// The text.
@@ -562,6 +584,7 @@ impl ErrorKind {
             ErrorKind::NotPositive { attr }
             | ErrorKind::ZeroVector { attr }
             | ErrorKind::NonFiniteValue { attr }
+            | ErrorKind::BeyondRange { attr, .. }
             | ErrorKind::UndefinedMaterial { attr, .. }
             | ErrorKind::OutOfRange { attr, .. } => Some(attr),
             ErrorKind::PixeldimTooSmall
@@ -576,7 +599,10 @@ impl ErrorKind {
     }
 }
 
-fn write_list(f: &mut fmt::Formatter<'_>, words: impl Iterator<Item = &'static str>) -> fmt::Result {
+fn write_list(
+    f: &mut fmt::Formatter<'_>,
+    words: impl Iterator<Item = &'static str>,
+) -> fmt::Result {
     for (i, word) in words.enumerate() {
         if i > 0 {
             f.write_str(", ")?;
@@ -602,7 +628,12 @@ impl fmt::Display for ErrorKind {
             }
             ErrorKind::UnknownAttribute { entity, found } => {
                 write!(f, "unknown attribute {found} in {entity} (expected ")?;
-                write_list(f, crate::parse::attributes_of(entity).iter().map(|a| a.keyword()))?;
+                write_list(
+                    f,
+                    crate::parse::attributes_of(entity)
+                        .iter()
+                        .map(|a| a.keyword()),
+                )?;
                 write!(f, " or `}}`)")
             }
             ErrorKind::MaterialNotFirst { entity } => {
@@ -614,9 +645,17 @@ impl fmt::Display for ErrorKind {
             ErrorKind::MissingAttribute { entity, attr } => {
                 write!(f, "{entity} is missing `{attr}`")
             }
-            ErrorKind::MissingValues { attr, expected, found, next } => {
+            ErrorKind::MissingValues {
+                attr,
+                expected,
+                found,
+                next,
+            } => {
                 let s = if expected == 1 { "" } else { "s" };
-                write!(f, "`{attr}` takes {expected} number{s}, found {found} before {next}")
+                write!(
+                    f,
+                    "`{attr}` takes {expected} number{s}, found {found} before {next}"
+                )
             }
             ErrorKind::ExtraValue { attr, expected } => {
                 let s = if expected == 1 { "" } else { "s" };
@@ -626,10 +665,19 @@ impl fmt::Display for ErrorKind {
                 write!(f, "expected a number for `{attr}`, found {found}")
             }
             ErrorKind::NotFinite { found } => {
-                write!(f, "{found} is not a finite number (scene files hold finite decimals)")
+                write!(
+                    f,
+                    "{found} is not a finite number (scene files hold finite decimals)"
+                )
             }
             ErrorKind::NonFiniteValue { attr } => {
                 write!(f, "`{attr}` has a value that is not finite")
+            }
+            ErrorKind::BeyondRange { attr, number_type } => {
+                write!(
+                    f,
+                    "`{attr}` is beyond the range of {number_type}, the number type of this build"
+                )
             }
             ErrorKind::NumberTooLarge { found } => {
                 write!(f, "{found} is out of range (beyond ±1.8e308)")
@@ -638,47 +686,80 @@ impl fmt::Display for ErrorKind {
                 write!(f, "`{attr}` takes whole numbers, found {found}")
             }
             ErrorKind::ExpectedWord { attr, found } => {
-                let what = if matches!(attr, Attr::Filename) { "a file name" } else { "a name" };
+                let what = if matches!(attr, Attr::Filename) {
+                    "a file name"
+                } else {
+                    "a name"
+                };
                 write!(f, "expected {what} after `{attr}`, found {found}")
             }
             ErrorKind::UnclosedBlock { entity, opened } => {
-                write!(f, "expected `}}` to close the {entity} block opened at {opened}, found end of file")
+                write!(
+                    f,
+                    "expected `}}` to close the {entity} block opened at {opened}, found end of file"
+                )
             }
             ErrorKind::InvalidCharacter { byte } => {
-                write!(f, "invalid character 0x{byte:02x} (control characters are allowed only in comments)")
+                write!(
+                    f,
+                    "invalid character 0x{byte:02x} (control characters are allowed only in comments)"
+                )
             }
             ErrorKind::NotUtf8 => write!(f, "names and file names must be valid UTF-8"),
             ErrorKind::NameTooLong { max } => write!(f, "name is longer than {max} bytes"),
             ErrorKind::UndefinedMaterial { name, .. } => {
-                write!(f, "undefined material {name} (materials must be defined before the objects that use them)")
+                write!(
+                    f,
+                    "undefined material {name} (materials must be defined before the objects that use them)"
+                )
             }
             ErrorKind::UndefinedTexture { name } => {
-                write!(f, "undefined texture {name} (textures must be defined before the planes that use them)")
+                write!(
+                    f,
+                    "undefined texture {name} (textures must be defined before the planes that use them)"
+                )
             }
             ErrorKind::DuplicateName { entity, name } => {
                 write!(f, "a {entity} named {name} is already defined")
             }
             ErrorKind::SecondCamera => write!(f, "second camera (a scene has exactly one)"),
-            ErrorKind::NoCamera => write!(f, "no camera (a scene needs exactly one `camera` block)"),
+            ErrorKind::NoCamera => {
+                write!(f, "no camera (a scene needs exactly one `camera` block)")
+            }
             ErrorKind::NotPositive { attr } => write!(f, "`{attr}` must be greater than 0"),
             ErrorKind::PixeldimTooSmall => {
-                write!(f, "`pixeldim` must be at least 2 by 2 (pixels map through pixeldim - 1)")
+                write!(
+                    f,
+                    "`pixeldim` must be at least 2 by 2 (pixels map through pixeldim - 1)"
+                )
             }
             ErrorKind::ImageTooWide { width, max } => {
-                write!(f, "image is {width} pixels wide; this build's row buffer holds {max}")
+                write!(
+                    f,
+                    "image is {width} pixels wide; this build's row buffer holds {max}"
+                )
             }
             ErrorKind::ImageTooTall { height } => {
-                write!(f, "image is {height} pixels tall; at most 65535 rows are supported")
+                write!(
+                    f,
+                    "image is {height} pixels tall; at most 65535 rows are supported"
+                )
             }
             ErrorKind::ZeroVector { attr } => {
                 if matches!(attr, Attr::Point) {
-                    write!(f, "spotlight `point` equals its `location`, so it has no direction")
+                    write!(
+                        f,
+                        "spotlight `point` equals its `location`, so it has no direction"
+                    )
                 } else {
                     write!(f, "`{attr}` must not be the zero vector")
                 }
             }
             ErrorKind::XdirParallelToNormal => {
-                write!(f, "`xdir` is parallel to the normal, so it gives no direction in the plane")
+                write!(
+                    f,
+                    "`xdir` is parallel to the normal, so it gives no direction in the plane"
+                )
             }
             ErrorKind::OutOfRange { attr, range } => write!(f, "`{attr}` must be {range}"),
             ErrorKind::TransparentWithoutDiffuse => write!(
@@ -700,11 +781,23 @@ mod tests {
     #[test]
     fn positions_count_lines_and_characters() {
         let text = "ab\ncé d\n".as_bytes();
-        assert_eq!(Position::of_offset(text, 0), Position { line: 1, column: 1 });
-        assert_eq!(Position::of_offset(text, 3), Position { line: 2, column: 1 });
+        assert_eq!(
+            Position::of_offset(text, 0),
+            Position { line: 1, column: 1 }
+        );
+        assert_eq!(
+            Position::of_offset(text, 3),
+            Position { line: 2, column: 1 }
+        );
         // `d` is byte 7 but character 4 of line 2 (é is two bytes).
-        assert_eq!(Position::of_offset(text, 7), Position { line: 2, column: 4 });
-        assert_eq!(Position::of_offset(text, 99), Position { line: 3, column: 1 });
+        assert_eq!(
+            Position::of_offset(text, 7),
+            Position { line: 2, column: 4 }
+        );
+        assert_eq!(
+            Position::of_offset(text, 99),
+            Position { line: 3, column: 1 }
+        );
     }
 
     #[test]
@@ -713,7 +806,10 @@ mod tests {
         let s = Snippet::new(long.as_bytes());
         assert_eq!(s.as_bytes().len(), 32);
         assert_eq!(std::format!("{s}"), std::format!("`{}…`", "é".repeat(16)));
-        assert_eq!(std::format!("{}", Snippet::new(b"a\x00\xff")), "`a\\u{0}\\xff`");
+        assert_eq!(
+            std::format!("{}", Snippet::new(b"a\x00\xff")),
+            "`a\\u{0}\\xff`"
+        );
         assert_eq!(std::format!("{}", Snippet::END), "end of file");
     }
 }

@@ -18,4 +18,4 @@ pub fn texture_files(scene_dir: &Path) -> impl FnMut(&str) -> Result<&'static [u
 }
 
 /// The scene type the host tracer uses: room for large scenes and wide images.
-pub type HostScene<'t, S> = crate::Scene<'t, S, 1024, 256, 64, 64, 8192>;
+pub type HostScene<'t, S> = crate::Scene<'t, S, 256, 64, 32, 16, 8192>;

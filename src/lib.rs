@@ -40,6 +40,8 @@
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 #![warn(missing_debug_implementations, rust_2018_idioms, unreachable_pub)]
+// `!(t > 0)` is deliberate: a NaN must count as a miss, which `t <= 0` would not do.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 // The library must not panic on any input: these lints keep panicking shortcuts out of it.
 #![cfg_attr(
     not(test),

@@ -1,10 +1,9 @@
 //! Lights: point lights and spotlights.
 
 use crate::error::{Attr, ErrorKind, Range};
-use crate::material::check_finite;
 use crate::name::{Name, bounded};
 use crate::print;
-use crate::scalar::Scalar;
+use crate::scalar::{Scalar, load, load3};
 use crate::vec3::Vec3;
 use core::fmt;
 
@@ -33,7 +32,12 @@ pub struct LightDef<'a> {
 impl<'a> LightDef<'a> {
     /// A point light.
     pub const fn point(name: &'a str, location: [f64; 3], emissivity: [f64; 3]) -> Self {
-        Self { name, location, emissivity, spot: None }
+        Self {
+            name,
+            location,
+            emissivity,
+            spot: None,
+        }
     }
 
     /// A spotlight aimed at `point` with half-angle `theta` degrees.
@@ -44,7 +48,12 @@ impl<'a> LightDef<'a> {
         point: [f64; 3],
         theta: f64,
     ) -> Self {
-        Self { name, location, emissivity, spot: Some(SpotDef { point, theta }) }
+        Self {
+            name,
+            location,
+            emissivity,
+            spot: Some(SpotDef { point, theta }),
+        }
     }
 }
 
@@ -76,30 +85,35 @@ pub struct Light<S> {
 impl<S: Scalar> Light<S> {
     /// Checks a definition.
     pub(crate) fn build(def: &LightDef<'_>) -> Result<Self, ErrorKind> {
-        check_finite(&def.location, Attr::Location)?;
-        check_finite(&def.emissivity, Attr::Emissivity)?;
-        let location = Vec3::<S>::from_f64(def.location);
+        let location = load3::<S>(def.location, Attr::Location)?;
+        let emissivity = load3::<S>(def.emissivity, Attr::Emissivity)?;
         let spot = match def.spot {
             None => None,
             Some(cone) => {
-                check_finite(&cone.point, Attr::Point)?;
-                check_finite(&[cone.theta], Attr::Theta)?;
+                let point = load3::<S>(cone.point, Attr::Point)?;
+                let theta = load::<S>(cone.theta, Attr::Theta)?;
                 if !(0.0..=180.0).contains(&cone.theta) {
-                    return Err(ErrorKind::OutOfRange { attr: Attr::Theta, range: Range::HalfTurn });
+                    return Err(ErrorKind::OutOfRange {
+                        attr: Attr::Theta,
+                        range: Range::HalfTurn,
+                    });
                 }
-                let point = Vec3::<S>::from_f64(cone.point);
-                let theta = S::from_f64(cone.theta);
                 let axis = (point.to_f64() - location.to_f64())
                     .unit_f64()
                     .ok_or(ErrorKind::ZeroVector { attr: Attr::Point })?;
                 let cos_theta = libm::cos(theta.to_f64() * (core::f64::consts::PI / 180.0));
-                Some(Spot { point, theta, axis: axis.cast(), cos_theta: S::from_f64(cos_theta) })
+                Some(Spot {
+                    point,
+                    theta,
+                    axis: axis.cast(),
+                    cos_theta: S::from_f64(cos_theta),
+                })
             }
         };
         Ok(Self {
             name: bounded(def.name)?,
             location,
-            emissivity: Vec3::from_f64(def.emissivity),
+            emissivity,
             spot,
         })
     }
@@ -111,7 +125,11 @@ impl<S: Scalar> Light<S> {
 
     /// Writes the light or spotlight block.
     pub fn print(&self, out: &mut dyn fmt::Write) -> fmt::Result {
-        let keyword = if self.spot.is_some() { "spotlight" } else { "light" };
+        let keyword = if self.spot.is_some() {
+            "spotlight"
+        } else {
+            "light"
+        };
         print::header(out, keyword, &self.name)?;
         print::vector(out, Attr::Location, self.location)?;
         print::vector(out, Attr::Emissivity, self.emissivity)?;
@@ -139,11 +157,17 @@ mod tests {
     #[test]
     fn spotlight_aimed_at_itself_is_an_error() {
         let def = LightDef::spot("s", [1.0; 3], [1.0; 3], [1.0; 3], 10.0);
-        assert_eq!(Light::<f32>::build(&def), Err(ErrorKind::ZeroVector { attr: Attr::Point }));
+        assert_eq!(
+            Light::<f32>::build(&def),
+            Err(ErrorKind::ZeroVector { attr: Attr::Point })
+        );
         let wide = LightDef::spot("s", [1.0; 3], [1.0; 3], [0.0; 3], 181.0);
         assert_eq!(
             Light::<f32>::build(&wide),
-            Err(ErrorKind::OutOfRange { attr: Attr::Theta, range: Range::HalfTurn })
+            Err(ErrorKind::OutOfRange {
+                attr: Attr::Theta,
+                range: Range::HalfTurn
+            })
         );
     }
 }

@@ -3,7 +3,7 @@
 use crate::error::{Attr, ErrorKind, Range};
 use crate::name::{Name, bounded};
 use crate::print;
-use crate::scalar::Scalar;
+use crate::scalar::{Scalar, load, load3};
 use crate::vec3::Vec3;
 use core::fmt;
 
@@ -84,35 +84,32 @@ pub struct Material<S> {
     pub filter: Vec3<S>,
 }
 
-/// Every value finite, or a [`ErrorKind::NotFinite`]-like error naming the attribute.
-pub(crate) fn check_finite(values: &[f64], attr: Attr) -> Result<(), ErrorKind> {
-    if values.iter().all(|v| v.is_finite()) {
-        Ok(())
-    } else {
-        Err(ErrorKind::NonFiniteValue { attr })
-    }
-}
-
 impl<S: Scalar> Material<S> {
     /// Checks a definition.
     pub(crate) fn build(def: &MaterialDef<'_>) -> Result<Self, ErrorKind> {
-        check_finite(&def.ambient, Attr::Ambient)?;
-        check_finite(&def.diffuse, Attr::Diffuse)?;
-        check_finite(&[def.specular], Attr::Specular)?;
-        check_finite(&[def.shininess], Attr::Shininess)?;
-        check_finite(&[def.transparency], Attr::Transparency)?;
+        let ambient = load3::<S>(def.ambient, Attr::Ambient)?;
+        let diffuse = load3::<S>(def.diffuse, Attr::Diffuse)?;
+        let specular = load::<S>(def.specular, Attr::Specular)?;
+        let shininess = load::<S>(def.shininess, Attr::Shininess)?;
+        let transparency = load::<S>(def.transparency, Attr::Transparency)?;
         if def.specular < 0.0 {
-            return Err(ErrorKind::OutOfRange { attr: Attr::Specular, range: Range::NonNegative });
+            return Err(ErrorKind::OutOfRange {
+                attr: Attr::Specular,
+                range: Range::NonNegative,
+            });
         }
         if def.shininess < 0.0 {
-            return Err(ErrorKind::OutOfRange { attr: Attr::Shininess, range: Range::NonNegative });
+            return Err(ErrorKind::OutOfRange {
+                attr: Attr::Shininess,
+                range: Range::NonNegative,
+            });
         }
         if !(0.0..=1.0).contains(&def.transparency) {
-            return Err(ErrorKind::OutOfRange { attr: Attr::Transparency, range: Range::ZeroToOne });
+            return Err(ErrorKind::OutOfRange {
+                attr: Attr::Transparency,
+                range: Range::ZeroToOne,
+            });
         }
-        let ambient = Vec3::<S>::from_f64(def.ambient);
-        let diffuse = Vec3::<S>::from_f64(def.diffuse);
-        let transparency = S::from_f64(def.transparency);
         // Computed from the stored values so that a printed and re-read scene is equal.
         let diffuse64 = diffuse.to_f64();
         let strongest = diffuse64.max_component();
@@ -120,7 +117,8 @@ impl<S: Scalar> Material<S> {
         let filter = if tr == 0.0 {
             Vec3::ZERO
         } else if strongest > 0.0 {
-            (diffuse64 * (tr / strongest)).cast()
+            let filter = diffuse64 * (tr / strongest);
+            load3([filter.x, filter.y, filter.z], Attr::Diffuse)?
         } else {
             return Err(ErrorKind::TransparentWithoutDiffuse);
         };
@@ -128,8 +126,8 @@ impl<S: Scalar> Material<S> {
             name: bounded(def.name)?,
             ambient,
             diffuse,
-            specular: S::from_f64(def.specular),
-            shininess: S::from_f64(def.shininess),
+            specular,
+            shininess,
             transparency,
             filter,
         })
@@ -164,8 +162,12 @@ mod tests {
 
     #[test]
     fn filter_is_transparency_over_strongest_diffuse() {
-        let m = Material::<f64>::build(&MaterialDef::new("g").diffuse([0.0, 8.0, 2.0]).transparency(0.6))
-            .unwrap();
+        let m = Material::<f64>::build(
+            &MaterialDef::new("g")
+                .diffuse([0.0, 8.0, 2.0])
+                .transparency(0.6),
+        )
+        .unwrap();
         assert_eq!(m.filter, Vec3::new(0.0, 0.6, 0.15));
     }
 
@@ -177,7 +179,10 @@ mod tests {
             (MaterialDef::new("a").specular(-0.1), Attr::Specular),
         ];
         for (def, attr) in bad {
-            assert_eq!(Material::<f32>::build(&def).unwrap_err().attribute(), Some(attr));
+            assert_eq!(
+                Material::<f32>::build(&def).unwrap_err().attribute(),
+                Some(attr)
+            );
         }
         assert_eq!(
             Material::<f32>::build(&MaterialDef::new("a").transparency(0.5)),
@@ -185,7 +190,9 @@ mod tests {
         );
         assert_eq!(
             Material::<f32>::build(&MaterialDef::new("a").ambient([f64::NAN, 0.0, 0.0])),
-            Err(ErrorKind::NonFiniteValue { attr: Attr::Ambient })
+            Err(ErrorKind::NonFiniteValue {
+                attr: Attr::Ambient
+            })
         );
     }
 }

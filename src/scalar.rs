@@ -10,6 +10,8 @@
 //! | `f64` | ±1.8e308 | correctly rounded, 2^-53 relative |
 //! | `f32` | ±3.4e38 | correctly rounded, 2^-24 relative |
 
+use crate::error::{Attr, ErrorKind};
+use crate::vec3::Vec3;
 use core::fmt;
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
@@ -46,6 +48,12 @@ pub trait Scalar:
     fn sqrt(self) -> Self;
     /// The largest integer not above the value, saturated to the `i64` range.
     fn floor_to_i64(self) -> i64;
+    /// The nearest value of this type, or `None` when `value` is outside the type's range.
+    #[inline]
+    fn from_f64_checked(value: f64) -> Option<Self> {
+        let converted = Self::from_f64(value);
+        converted.to_f64().is_finite().then_some(converted)
+    }
     /// Writes the shortest decimal text that reads back as exactly this value.
     fn write_shortest(self, out: &mut dyn fmt::Write) -> fmt::Result;
 
@@ -121,6 +129,31 @@ impl Scalar for f32 {
     }
 }
 
+/// A written value checked at load: finite, and within the number type's range.
+pub(crate) fn load<S: Scalar>(value: f64, attr: Attr) -> Result<S, ErrorKind> {
+    if !value.is_finite() {
+        return Err(ErrorKind::NonFiniteValue { attr });
+    }
+    S::from_f64_checked(value).ok_or(ErrorKind::BeyondRange {
+        attr,
+        number_type: S::NAME,
+    })
+}
+
+/// [`load`] for each of two values.
+pub(crate) fn load2<S: Scalar>(v: [f64; 2], attr: Attr) -> Result<[S; 2], ErrorKind> {
+    Ok([load(v[0], attr)?, load(v[1], attr)?])
+}
+
+/// [`load`] for each component of a vector.
+pub(crate) fn load3<S: Scalar>(v: [f64; 3], attr: Attr) -> Result<Vec3<S>, ErrorKind> {
+    Ok(Vec3::new(
+        load(v[0], attr)?,
+        load(v[1], attr)?,
+        load(v[2], attr)?,
+    ))
+}
+
 /// Counts the bytes a formatting would write, without storing them.
 struct Counter(usize);
 
@@ -173,7 +206,15 @@ mod tests {
 
     #[test]
     fn shortest_text_reads_back_exactly() {
-        for v in [0.1f64, 1.0 / 3.0, 2.121, 1e300, 5e-324, -123456.789e-20, 6.02214076e23] {
+        for v in [
+            0.1f64,
+            1.0 / 3.0,
+            2.121,
+            1e300,
+            5e-324,
+            -123456.789e-20,
+            6.02214076e23,
+        ] {
             assert_eq!(shortest(v).parse::<f64>().unwrap(), v);
         }
     }

@@ -59,7 +59,10 @@ pub struct SceneBuilder<
 }
 
 fn capacity_error(what: Collection, capacity: usize) -> ErrorKind {
-    ErrorKind::CapacityExceeded { what, capacity: u16::try_from(capacity).unwrap_or(u16::MAX) }
+    ErrorKind::CapacityExceeded {
+        what,
+        capacity: u16::try_from(capacity).unwrap_or(u16::MAX),
+    }
 }
 
 impl<
@@ -130,7 +133,9 @@ impl<
             return Err(capacity_error(Collection::Lights, LIGHTS));
         }
         let light = Light::build(def)?;
-        self.lights.push(light).map_err(|_| capacity_error(Collection::Lights, LIGHTS))
+        self.lights
+            .push(light)
+            .map_err(|_| capacity_error(Collection::Lights, LIGHTS))
     }
 
     /// Adds a texture, decoding its PPM bytes; its name must be new.
@@ -156,11 +161,15 @@ impl<
             return Err(capacity_error(Collection::Objects, OBJECTS));
         }
         let object = Object::build(def, |n| self.find_material(n), |n| self.find_texture(n))?;
-        self.objects.push(object).map_err(|_| capacity_error(Collection::Objects, OBJECTS))
+        self.objects
+            .push(object)
+            .map_err(|_| capacity_error(Collection::Objects, OBJECTS))
     }
 
     /// The finished scene; it must have a camera.
-    pub fn build(self) -> Result<Scene<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>, ErrorKind> {
+    pub fn build(
+        self,
+    ) -> Result<Scene<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>, ErrorKind> {
         Ok(Scene {
             camera: self.camera.ok_or(ErrorKind::NoCamera)?,
             materials: self.materials,
@@ -254,7 +263,11 @@ impl<
 
     /// What the objects' surface look-ups and printers need.
     pub fn palette(&self) -> Palette<'_, S> {
-        Palette { materials: &self.materials, textures: &self.textures, camera: &self.camera }
+        Palette {
+            materials: &self.materials,
+            textures: &self.textures,
+            camera: &self.camera,
+        }
     }
 
     /// The nearest hit with `t > 0` over all objects, skipping object `skip` (the one the
@@ -290,24 +303,37 @@ mod tests {
         b.material(&MaterialDef::new("m")).unwrap();
         assert_eq!(
             b.material(&MaterialDef::new("n")),
-            Err(ErrorKind::CapacityExceeded { what: Collection::Materials, capacity: 1 })
+            Err(ErrorKind::CapacityExceeded {
+                what: Collection::Materials,
+                capacity: 1
+            })
         );
         b.light(&LightDef::point("l", [0.0; 3], [1.0; 3])).unwrap();
         assert_eq!(
             b.light(&LightDef::point("l", [0.0; 3], [1.0; 3])),
-            Err(ErrorKind::CapacityExceeded { what: Collection::Lights, capacity: 1 })
+            Err(ErrorKind::CapacityExceeded {
+                what: Collection::Lights,
+                capacity: 1
+            })
         );
-        b.object(&ObjectDef::sphere("s", "m", [0.0, 0.0, -5.0], 1.0)).unwrap();
+        b.object(&ObjectDef::sphere("s", "m", [0.0, 0.0, -5.0], 1.0))
+            .unwrap();
         assert_eq!(
             b.object(&ObjectDef::sphere("s", "m", [0.0, 0.0, -5.0], 1.0)),
-            Err(ErrorKind::CapacityExceeded { what: Collection::Objects, capacity: 1 })
+            Err(ErrorKind::CapacityExceeded {
+                what: Collection::Objects,
+                capacity: 1
+            })
         );
     }
 
     #[test]
     fn image_wider_than_the_row_buffer() {
         let mut b: SceneBuilder<'_, f32, 1, 1, 1, 0, 63> = SceneBuilder::new();
-        assert_eq!(b.camera(&CAMERA), Err(ErrorKind::ImageTooWide { width: 64, max: 63 }));
+        assert_eq!(
+            b.camera(&CAMERA),
+            Err(ErrorKind::ImageTooWide { width: 64, max: 63 })
+        );
     }
 
     #[test]
@@ -336,9 +362,17 @@ mod tests {
     fn undefined_and_duplicate_names() {
         let mut b: SceneBuilder<'_, f64> = SceneBuilder::new();
         b.material(&MaterialDef::new("m")).unwrap();
-        assert!(matches!(b.material(&MaterialDef::new("m")), Err(ErrorKind::DuplicateName { .. })));
-        let err = b.object(&ObjectDef::sphere("s", "nope", [0.0; 3], 1.0)).unwrap_err();
-        assert_eq!(err.to_string(), "undefined material `nope` (materials must be defined before the objects that use them)");
+        assert!(matches!(
+            b.material(&MaterialDef::new("m")),
+            Err(ErrorKind::DuplicateName { .. })
+        ));
+        let err = b
+            .object(&ObjectDef::sphere("s", "nope", [0.0; 3], 1.0))
+            .unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "undefined material `nope` (materials must be defined before the objects that use them)"
+        );
         assert_eq!(b.build(), Err(ErrorKind::NoCamera));
     }
 }

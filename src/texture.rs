@@ -68,7 +68,10 @@ impl<'t> Texture<'t> {
         if x >= usize::from(self.width) {
             return [0; 3];
         }
-        let start = y.saturating_mul(usize::from(self.width)).saturating_add(x).saturating_mul(3);
+        let start = y
+            .saturating_mul(usize::from(self.width))
+            .saturating_add(x)
+            .saturating_mul(3);
         match self.pixels.get(start..start.saturating_add(3)) {
             Some(&[r, g, b]) => [r, g, b],
             _ => [0; 3],
@@ -85,7 +88,9 @@ impl<'t> Texture<'t> {
 
 /// Reads a P6 header and returns width, height and the pixel bytes (borrowed).
 pub fn decode_ppm(bytes: &[u8]) -> Result<(u16, u16, &[u8]), TextureError> {
-    let rest = bytes.strip_prefix(b"P6").ok_or(TextureError::NotBinaryPpm)?;
+    let rest = bytes
+        .strip_prefix(b"P6")
+        .ok_or(TextureError::NotBinaryPpm)?;
     let (width, rest) = header_number(rest)?;
     let (height, rest) = header_number(rest)?;
     let (max, rest) = header_number(rest)?;
@@ -144,18 +149,35 @@ mod tests {
 
     #[test]
     fn rejects_malformed_files() {
-        assert_eq!(decode_ppm(b"P3 1 1 255 0 0 0"), Err(TextureError::NotBinaryPpm));
+        assert_eq!(
+            decode_ppm(b"P3 1 1 255 0 0 0"),
+            Err(TextureError::NotBinaryPpm)
+        );
         assert_eq!(decode_ppm(b"P6 1 255 "), Err(TextureError::BadHeader));
-        assert_eq!(decode_ppm(b"P6 1 1 65535 \0\0\0\0\0\0"), Err(TextureError::UnsupportedMaxValue));
+        assert_eq!(
+            decode_ppm(b"P6 1 1 65535 \0\0\0\0\0\0"),
+            Err(TextureError::UnsupportedMaxValue)
+        );
         assert_eq!(decode_ppm(b"P6 0 1 255 "), Err(TextureError::BadSize));
-        assert_eq!(decode_ppm(b"P6 2 2 255 \0\0\0"), Err(TextureError::Truncated));
-        assert_eq!(decode_ppm(b"P6 99999999999 1 255 "), Err(TextureError::BadHeader));
+        assert_eq!(
+            decode_ppm(b"P6 2 2 255 \0\0\0"),
+            Err(TextureError::Truncated)
+        );
+        assert_eq!(
+            decode_ppm(b"P6 99999999999 1 255 "),
+            Err(TextureError::BadHeader)
+        );
     }
 
     #[test]
     fn texel_outside_is_black() {
         let file = b"P6 1 1 255 \x07\x08\x09";
-        let t = Texture::build(&TextureDef { name: "t", filename: "t.ppm", ppm: file }).unwrap();
+        let t = Texture::build(&TextureDef {
+            name: "t",
+            filename: "t.ppm",
+            ppm: file,
+        })
+        .unwrap();
         assert_eq!(t.texel(0, 0), [7, 8, 9]);
         assert_eq!(t.texel(1, 0), [0; 3]);
         assert_eq!(t.texel(0, usize::MAX), [0; 3]);

@@ -109,7 +109,11 @@ impl Vec3<f64> {
 
     /// Converts each component into another number type.
     pub fn cast<S: Scalar>(self) -> Vec3<S> {
-        Vec3::new(S::from_f64(self.x), S::from_f64(self.y), S::from_f64(self.z))
+        Vec3::new(
+            S::from_f64(self.x),
+            S::from_f64(self.y),
+            S::from_f64(self.z),
+        )
     }
 }
 
@@ -164,6 +168,9 @@ mod tests {
         assert_eq!(Vec3::<f32>::ZERO.unit(), None);
         assert_eq!(Vec3::new(0.0, 0.0, 0.0).unit_f64(), None);
         assert_eq!(Vec3::new(f64::INFINITY, 0.0, 0.0).unit_f64(), None);
-        assert_eq!(Vec3::new(0.0, 3.0, 4.0).unit_f64(), Some(Vec3::new(0.0, 0.6, 0.8)));
+        assert_eq!(
+            Vec3::new(0.0, 3.0, 4.0).unit_f64(),
+            Some(Vec3::new(0.0, 0.6, 0.8))
+        );
     }
 }

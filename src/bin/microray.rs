@@ -8,7 +8,11 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "microray", version, about = "A no_std ray tracer for microcontroller displays: the std front end")]
+#[command(
+    name = "microray",
+    version,
+    about = "A no_std ray tracer for microcontroller displays: the std front end"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -33,22 +37,23 @@ fn main() -> ExitCode {
     let result = match &cli.command {
         Command::Check { scene } => load(scene).map(|s| {
             let cam = s.camera();
-            let lights = s.lights().len();
             let spots = s.lights().iter().filter(|l| l.spot.is_some()).count();
             println!(
-                "ok: {}x{} pixels, {} materials, {} textures, {} lights ({} spot), {} objects",
+                "ok: {}: {}x{} pixels, {}, {}, {} ({} spot), {}",
+                scene.display(),
                 cam.width(),
                 cam.height(),
-                s.materials().len(),
-                s.textures().len(),
-                lights,
+                count(s.materials().len(), "material"),
+                count(s.textures().len(), "texture"),
+                count(s.lights().len(), "light"),
                 spots,
-                s.objects().len()
+                count(s.objects().len(), "object"),
             );
         }),
         Command::Print { scene } => load(scene).and_then(|s| {
             let mut text = String::new();
-            print_scene(&s, &mut text).map_err(|_| format!("{}: error: printing failed", scene.display()))?;
+            print_scene(&s, &mut text)
+                .map_err(|_| format!("{}: error: printing failed", scene.display()))?;
             print!("{text}");
             Ok(())
         }),
@@ -64,10 +69,21 @@ fn main() -> ExitCode {
 
 /// Reads and parses a scene; the error is the full `FILE:LINE:COL: error: ...` line.
 fn load(path: &Path) -> Result<HostScene<'static, f64>, String> {
-    let text = std::fs::read(path).map_err(|e| format!("{}: error: cannot read: {e}", path.display()))?;
+    let text =
+        std::fs::read(path).map_err(|e| format!("{}: error: cannot read: {e}", path.display()))?;
     let dir = path.parent().unwrap_or(Path::new("."));
     parse_scene(&text, texture_files(dir)).map_err(|e| match e.position {
-        Some(p) => format!("{}:{}:{}: error: {}", path.display(), p.line, p.column, e.kind),
+        Some(p) => format!(
+            "{}:{}:{}: error: {}",
+            path.display(),
+            p.line,
+            p.column,
+            e.kind
+        ),
         None => format!("{}: error: {}", path.display(), e.kind),
     })
+}
+
+fn count(n: usize, noun: &str) -> String {
+    format!("{n} {noun}{}", if n == 1 { "" } else { "s" })
 }

@@ -6,11 +6,11 @@ use super::{
     object_print, object_specular,
 };
 use crate::error::{Attr, Entity, ErrorKind};
-use crate::material::{MaterialId, check_finite};
+use crate::material::MaterialId;
 use crate::object::plane::{Plane, PlaneDef};
 use crate::print;
 use crate::ray::Ray;
-use crate::scalar::Scalar;
+use crate::scalar::{Scalar, load2, load3};
 use crate::vec3::Vec3;
 use core::fmt;
 
@@ -29,8 +29,18 @@ pub struct RectDef {
 
 impl RectDef {
     /// A rectangle definition.
-    pub const fn new(normal: [f64; 3], point: [f64; 3], xdir: [f64; 3], dimensions: [f64; 2]) -> Self {
-        Self { normal, point, xdir, dimensions }
+    pub const fn new(
+        normal: [f64; 3],
+        point: [f64; 3],
+        xdir: [f64; 3],
+        dimensions: [f64; 2],
+    ) -> Self {
+        Self {
+            normal,
+            point,
+            xdir,
+            dimensions,
+        }
     }
 }
 
@@ -53,13 +63,16 @@ pub struct Rect<S> {
 impl<S: Scalar> Rect<S> {
     /// Checks a definition: a plane's checks, `xdir` not along the normal, positive size.
     pub(crate) fn build(def: &RectDef) -> Result<Self, ErrorKind> {
-        let plane = Plane::build(&PlaneDef { normal: def.normal, point: def.point })?;
-        check_finite(&def.xdir, Attr::Xdir)?;
-        check_finite(&def.dimensions, Attr::Dimensions)?;
-        let xdir = Vec3::<S>::from_f64(def.xdir);
-        let dimensions = [S::from_f64(def.dimensions[0]), S::from_f64(def.dimensions[1])];
+        let plane = Plane::build(&PlaneDef {
+            normal: def.normal,
+            point: def.point,
+        })?;
+        let xdir = load3::<S>(def.xdir, Attr::Xdir)?;
+        let dimensions = load2::<S>(def.dimensions, Attr::Dimensions)?;
         if dimensions.iter().any(|&d| d <= S::ZERO) || def.dimensions.iter().any(|&d| d <= 0.0) {
-            return Err(ErrorKind::NotPositive { attr: Attr::Dimensions });
+            return Err(ErrorKind::NotPositive {
+                attr: Attr::Dimensions,
+            });
         }
         let n = plane.unit_normal.to_f64();
         let x = xdir.to_f64();
@@ -74,9 +87,17 @@ impl<S: Scalar> Rect<S> {
         if !(sine > 1e-12) {
             return Err(ErrorKind::XdirParallelToNormal);
         }
-        let u = (x - n * x.dot(n)).unit_f64().ok_or(ErrorKind::XdirParallelToNormal)?;
+        let u = (x - n * x.dot(n))
+            .unit_f64()
+            .ok_or(ErrorKind::XdirParallelToNormal)?;
         let v = n.cross(u);
-        Ok(Self { plane, xdir, dimensions, u: u.cast(), v: v.cast() })
+        Ok(Self {
+            plane,
+            xdir,
+            dimensions,
+            u: u.cast(),
+            v: v.cast(),
+        })
     }
 
     /// `(u, v) . (p - point)`: a point's coordinates within the rectangle.
@@ -120,7 +141,12 @@ pub fn fplane_init<S: Scalar>(
     material: MaterialId,
     def: &RectDef,
 ) -> Result<Object<S>, ErrorKind> {
-    Object::init(&Rect::VTABLE, name, material, Shape::FPlane(Rect::build(def)?))
+    Object::init(
+        &Rect::VTABLE,
+        name,
+        material,
+        Shape::FPlane(Rect::build(def)?),
+    )
 }
 
 /// `hits` of a finite plane.
@@ -151,7 +177,12 @@ mod tests {
 
     fn tilted() -> RectDef {
         // fplane1's rectangle: 6 x 3 on the plane y + z = -3, corner (1, 0, -3).
-        RectDef::new([0.0, 1.0, 1.0], [1.0, 0.0, -3.0], [1.0, 0.0, 0.0], [6.0, 3.0])
+        RectDef::new(
+            [0.0, 1.0, 1.0],
+            [1.0, 0.0, -3.0],
+            [1.0, 0.0, 0.0],
+            [6.0, 3.0],
+        )
     }
 
     #[test]
@@ -166,7 +197,9 @@ mod tests {
     #[test]
     fn hits_inside_only() {
         let obj: Object<f64> = fplane_init("f", 0, &tilted()).unwrap();
-        let Shape::FPlane(rect) = obj.shape() else { panic!("not an fplane") };
+        let Shape::FPlane(rect) = obj.shape() else {
+            panic!("not an fplane")
+        };
         // Local (1, sqrt 2) is the world point (2, 1, -4).
         let hit = obj.hits(&ray([2.0, 3.0, -2.0], [0.0, -1.0, -1.0])).unwrap();
         assert!((hit.point - Vec3::new(2.0, 1.0, -4.0)).length() < 1e-12);
@@ -178,20 +211,38 @@ mod tests {
         // Beyond the height: local y = 3.5 is the point (2, 2.47, -5.47).
         assert_eq!(obj.hits(&ray([2.0, 6.0, -2.0], [0.0, -1.0, -1.0])), None);
         // The infinite plane under it is hit there.
-        assert!(rect.plane.intersect(&ray([2.0, 6.0, -2.0], [0.0, -1.0, -1.0])).is_some());
+        assert!(
+            rect.plane
+                .intersect(&ray([2.0, 6.0, -2.0], [0.0, -1.0, -1.0]))
+                .is_some()
+        );
     }
 
     #[test]
     fn degenerate_axes_are_errors() {
         let mut def = tilted();
         def.xdir = [0.0, 2.0, 2.0];
-        assert_eq!(Rect::<f64>::build(&def), Err(ErrorKind::XdirParallelToNormal));
+        assert_eq!(
+            Rect::<f64>::build(&def),
+            Err(ErrorKind::XdirParallelToNormal)
+        );
         def.xdir = [0.0, 0.1, 0.1];
-        assert_eq!(Rect::<f64>::build(&def), Err(ErrorKind::XdirParallelToNormal));
+        assert_eq!(
+            Rect::<f64>::build(&def),
+            Err(ErrorKind::XdirParallelToNormal)
+        );
         def.xdir = [0.0; 3];
-        assert_eq!(Rect::<f64>::build(&def), Err(ErrorKind::ZeroVector { attr: Attr::Xdir }));
+        assert_eq!(
+            Rect::<f64>::build(&def),
+            Err(ErrorKind::ZeroVector { attr: Attr::Xdir })
+        );
         def = tilted();
         def.dimensions = [6.0, 0.0];
-        assert_eq!(Rect::<f64>::build(&def), Err(ErrorKind::NotPositive { attr: Attr::Dimensions }));
+        assert_eq!(
+            Rect::<f64>::build(&def),
+            Err(ErrorKind::NotPositive {
+                attr: Attr::Dimensions
+            })
+        );
     }
 }

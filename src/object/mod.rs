@@ -60,6 +60,9 @@ impl<S: Scalar> Palette<'_, S> {
     }
 }
 
+/// A colour look-up at a hit (ambient, diffuse).
+pub type ColorLookup<S> = fn(&Object<S>, &Palette<'_, S>, &Hit<S>) -> Vec3<S>;
+
 /// The function table of an object kind: the C `object_t`'s function pointers.
 #[derive(Debug)]
 pub struct ObjectVTable<S: Scalar> {
@@ -72,9 +75,9 @@ pub struct ObjectVTable<S: Scalar> {
     /// The material in effect at a hit (the tiled plane's checkerboard overrides it).
     pub material: fn(&Object<S>, &Hit<S>) -> MaterialId,
     /// Ambient reflectivity at a hit.
-    pub ambient: fn(&Object<S>, &Palette<'_, S>, &Hit<S>) -> Vec3<S>,
+    pub ambient: ColorLookup<S>,
     /// Diffuse reflectivity at a hit.
-    pub diffuse: fn(&Object<S>, &Palette<'_, S>, &Hit<S>) -> Vec3<S>,
+    pub diffuse: ColorLookup<S>,
     /// Mirror reflectivity at a hit.
     pub specular: fn(&Object<S>, &Palette<'_, S>, &Hit<S>) -> S,
 }
@@ -122,7 +125,12 @@ impl<S: Scalar> Object<S> {
         material: MaterialId,
         shape: Shape<S>,
     ) -> Result<Self, ErrorKind> {
-        Ok(Self { vtable, name: bounded(name)?, material, shape })
+        Ok(Self {
+            vtable,
+            name: bounded(name)?,
+            material,
+            shape,
+        })
     }
 
     /// The nearest hit along `ray` (`t > 0`, hit point not in front of the image plane).
@@ -198,18 +206,32 @@ pub fn object_material<S: Scalar>(obj: &Object<S>, _: &Hit<S>) -> MaterialId {
 }
 
 /// The default ambient look-up (the C `material_getamb`).
-pub fn object_ambient<S: Scalar>(obj: &Object<S>, palette: &Palette<'_, S>, hit: &Hit<S>) -> Vec3<S> {
-    palette.material(obj.material_at(hit)).map_or(Vec3::ZERO, |m| m.ambient)
+pub fn object_ambient<S: Scalar>(
+    obj: &Object<S>,
+    palette: &Palette<'_, S>,
+    hit: &Hit<S>,
+) -> Vec3<S> {
+    palette
+        .material(obj.material_at(hit))
+        .map_or(Vec3::ZERO, |m| m.ambient)
 }
 
 /// The default diffuse look-up.
-pub fn object_diffuse<S: Scalar>(obj: &Object<S>, palette: &Palette<'_, S>, hit: &Hit<S>) -> Vec3<S> {
-    palette.material(obj.material_at(hit)).map_or(Vec3::ZERO, |m| m.diffuse)
+pub fn object_diffuse<S: Scalar>(
+    obj: &Object<S>,
+    palette: &Palette<'_, S>,
+    hit: &Hit<S>,
+) -> Vec3<S> {
+    palette
+        .material(obj.material_at(hit))
+        .map_or(Vec3::ZERO, |m| m.diffuse)
 }
 
 /// The default specular look-up.
 pub fn object_specular<S: Scalar>(obj: &Object<S>, palette: &Palette<'_, S>, hit: &Hit<S>) -> S {
-    palette.material(obj.material_at(hit)).map_or(S::ZERO, |m| m.specular)
+    palette
+        .material(obj.material_at(hit))
+        .map_or(S::ZERO, |m| m.specular)
 }
 
 /// A hit at `t` if it counts: `t > 0` and the z rule (a point with `z > 0.01` is in front of
@@ -263,16 +285,33 @@ pub enum ShapeDef<'a> {
 
 impl<'a> ObjectDef<'a> {
     /// An infinite plane.
-    pub const fn plane(name: &'a str, material: &'a str, normal: [f64; 3], point: [f64; 3]) -> Self {
-        Self { name, material, shape: ShapeDef::Plane(PlaneDef { normal, point }) }
+    pub const fn plane(
+        name: &'a str,
+        material: &'a str,
+        normal: [f64; 3],
+        point: [f64; 3],
+    ) -> Self {
+        Self {
+            name,
+            material,
+            shape: ShapeDef::Plane(PlaneDef { normal, point }),
+        }
     }
     /// A sphere.
     pub const fn sphere(name: &'a str, material: &'a str, center: [f64; 3], radius: f64) -> Self {
-        Self { name, material, shape: ShapeDef::Sphere(SphereDef { center, radius }) }
+        Self {
+            name,
+            material,
+            shape: ShapeDef::Sphere(SphereDef { center, radius }),
+        }
     }
     /// A finite rectangle.
     pub const fn fplane(name: &'a str, material: &'a str, rect: RectDef) -> Self {
-        Self { name, material, shape: ShapeDef::FPlane(rect) }
+        Self {
+            name,
+            material,
+            shape: ShapeDef::FPlane(rect),
+        }
     }
     /// An infinite checkerboard plane; tiles where `ix + iy` is even use `altmaterial`.
     pub const fn tiled_plane(
@@ -281,7 +320,11 @@ impl<'a> ObjectDef<'a> {
         rect: RectDef,
         altmaterial: &'a str,
     ) -> Self {
-        Self { name, material, shape: ShapeDef::TiledPlane(rect, altmaterial) }
+        Self {
+            name,
+            material,
+            shape: ShapeDef::TiledPlane(rect, altmaterial),
+        }
     }
     /// A textured rectangle.
     pub const fn texplane(
@@ -291,7 +334,11 @@ impl<'a> ObjectDef<'a> {
         texname: &'a str,
         mode: TextureMode,
     ) -> Self {
-        Self { name, material, shape: ShapeDef::TexPlane(rect, texname, mode) }
+        Self {
+            name,
+            material,
+            shape: ShapeDef::TexPlane(rect, texname, mode),
+        }
     }
 
     /// The kind of object this defines.
@@ -315,8 +362,10 @@ impl<S: Scalar> Object<S> {
         find_texture: impl Fn(&str) -> Option<u16>,
     ) -> Result<Self, ErrorKind> {
         let material_named = |attr: Attr, name: &str| {
-            find_material(name)
-                .ok_or(ErrorKind::UndefinedMaterial { attr, name: Snippet::new(name.as_bytes()) })
+            find_material(name).ok_or(ErrorKind::UndefinedMaterial {
+                attr,
+                name: Snippet::new(name.as_bytes()),
+            })
         };
         let material = material_named(Attr::Material, def.material)?;
         match &def.shape {
@@ -346,20 +395,34 @@ pub(crate) mod test_support {
 
     pub(crate) fn materials() -> [Material<f64>; 2] {
         [
-            Material::build(&MaterialDef::new("red").ambient([1.0, 0.0, 0.0]).diffuse([2.0, 0.0, 0.0]))
-                .unwrap(),
             Material::build(
-                &MaterialDef::new("gray").ambient([0.5; 3]).diffuse([3.0; 3]).specular(0.25),
+                &MaterialDef::new("red")
+                    .ambient([1.0, 0.0, 0.0])
+                    .diffuse([2.0, 0.0, 0.0]),
+            )
+            .unwrap(),
+            Material::build(
+                &MaterialDef::new("gray")
+                    .ambient([0.5; 3])
+                    .diffuse([3.0; 3])
+                    .specular(0.25),
             )
             .unwrap(),
         ]
     }
 
     pub(crate) fn camera() -> Camera<f64> {
-        Camera::build(&CameraDef::new("c", [80, 60], [8.0, 6.0], [4.0, 3.0, 3.0]), 1024).unwrap()
+        Camera::build(
+            &CameraDef::new("c", [80, 60], [8.0, 6.0], [4.0, 3.0, 3.0]),
+            1024,
+        )
+        .unwrap()
     }
 
     pub(crate) fn ray(base: [f64; 3], dir: [f64; 3]) -> Ray<f64> {
-        Ray::new(Vec3::from_array(base), Vec3::from_array(dir).unit_f64().unwrap())
+        Ray::new(
+            Vec3::from_array(base),
+            Vec3::from_array(dir).unit_f64().unwrap(),
+        )
     }
 }

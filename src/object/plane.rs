@@ -5,10 +5,10 @@ use super::{
     object_material, object_print, object_specular,
 };
 use crate::error::{Attr, Entity, ErrorKind};
-use crate::material::{MaterialId, check_finite};
+use crate::material::MaterialId;
 use crate::print;
 use crate::ray::Ray;
-use crate::scalar::Scalar;
+use crate::scalar::{Scalar, load, load3};
 use crate::vec3::Vec3;
 use core::fmt;
 
@@ -37,15 +37,22 @@ pub struct Plane<S> {
 impl<S: Scalar> Plane<S> {
     /// Checks a definition: finite values, a normal that is not zero.
     pub(crate) fn build(def: &PlaneDef) -> Result<Self, ErrorKind> {
-        check_finite(&def.normal, Attr::Normal)?;
-        check_finite(&def.point, Attr::Point)?;
-        let normal = Vec3::<S>::from_f64(def.normal);
-        let point = Vec3::<S>::from_f64(def.point);
+        let normal = load3::<S>(def.normal, Attr::Normal)?;
+        let point = load3::<S>(def.point, Attr::Point)?;
         // Invariants in f64 from the stored values: every number type starts from the same
         // correctly rounded unit normal, and a re-read printed scene is equal.
-        let unit = normal.to_f64().unit_f64().ok_or(ErrorKind::ZeroVector { attr: Attr::Normal })?;
+        let unit = normal
+            .to_f64()
+            .unit_f64()
+            .ok_or(ErrorKind::ZeroVector { attr: Attr::Normal })?;
         let n_dot_point = unit.dot(point.to_f64());
-        Ok(Self { normal, point, unit_normal: unit.cast(), n_dot_point: S::from_f64(n_dot_point) })
+        let n_dot_point = load(n_dot_point, Attr::Point)?;
+        Ok(Self {
+            normal,
+            point,
+            unit_normal: unit.cast(),
+            n_dot_point,
+        })
     }
 
     /// The seed's `plane_hits`: `t = (N.point - N.base) / N.dir`; no hit when the ray is
@@ -84,7 +91,12 @@ pub fn plane_init<S: Scalar>(
     material: MaterialId,
     def: &PlaneDef,
 ) -> Result<Object<S>, ErrorKind> {
-    Object::init(&Plane::VTABLE, name, material, Shape::Plane(Plane::build(def)?))
+    Object::init(
+        &Plane::VTABLE,
+        name,
+        material,
+        Shape::Plane(Plane::build(def)?),
+    )
 }
 
 /// `hits` of a plane.
@@ -114,13 +126,23 @@ mod tests {
     use crate::object::test_support::ray;
 
     fn floor_at_minus_7() -> Object<f64> {
-        plane_init("p", 0, &PlaneDef { normal: [0.0, 0.0, 1.0], point: [0.0, 0.0, -7.0] }).unwrap()
+        plane_init(
+            "p",
+            0,
+            &PlaneDef {
+                normal: [0.0, 0.0, 1.0],
+                point: [0.0, 0.0, -7.0],
+            },
+        )
+        .unwrap()
     }
 
     #[test]
     fn seed_example() {
         // The seed's worked example: N = (0,0,1), point (0,0,-7), base (4,3,5), dir (0,0,-1).
-        let hit = floor_at_minus_7().hits(&ray([4.0, 3.0, 5.0], [0.0, 0.0, -1.0])).unwrap();
+        let hit = floor_at_minus_7()
+            .hits(&ray([4.0, 3.0, 5.0], [0.0, 0.0, -1.0]))
+            .unwrap();
         assert_eq!(hit.t, 12.0);
         assert_eq!(hit.point, Vec3::new(4.0, 3.0, -7.0));
         assert_eq!(hit.normal, Vec3::new(0.0, 0.0, 1.0));
@@ -136,23 +158,44 @@ mod tests {
     #[test]
     fn z_rule() {
         // A wall at z = 1 faces the camera: hit points there are in front of the image plane.
-        let wall: Object<f64> =
-            plane_init("w", 0, &PlaneDef { normal: [0.0, 0.0, 1.0], point: [0.0, 0.0, 1.0] }).unwrap();
+        let wall: Object<f64> = plane_init(
+            "w",
+            0,
+            &PlaneDef {
+                normal: [0.0, 0.0, 1.0],
+                point: [0.0, 0.0, 1.0],
+            },
+        )
+        .unwrap();
         assert_eq!(wall.hits(&ray([0.0, 0.0, 5.0], [0.0, 0.0, -1.0])), None);
         // At z = 0.01 exactly it still counts; the rule is z > 0.01.
-        let edge: Object<f64> =
-            plane_init("e", 0, &PlaneDef { normal: [0.0, 0.0, 1.0], point: [0.0, 0.0, 0.01] }).unwrap();
+        let edge: Object<f64> = plane_init(
+            "e",
+            0,
+            &PlaneDef {
+                normal: [0.0, 0.0, 1.0],
+                point: [0.0, 0.0, 0.01],
+            },
+        )
+        .unwrap();
         assert!(edge.hits(&ray([0.0, 0.0, 5.0], [0.0, 0.0, -1.0])).is_some());
     }
 
     #[test]
     fn normal_is_normalised_at_load_and_written_one_kept() {
-        let p = Plane::<f64>::build(&PlaneDef { normal: [0.0, 3.0, 4.0], point: [0.0, 1.0, 0.0] }).unwrap();
+        let p = Plane::<f64>::build(&PlaneDef {
+            normal: [0.0, 3.0, 4.0],
+            point: [0.0, 1.0, 0.0],
+        })
+        .unwrap();
         assert_eq!(p.normal, Vec3::new(0.0, 3.0, 4.0));
         assert_eq!(p.unit_normal, Vec3::new(0.0, 0.6, 0.8));
         assert_eq!(p.n_dot_point, 0.6);
         assert_eq!(
-            Plane::<f64>::build(&PlaneDef { normal: [0.0; 3], point: [0.0; 3] }),
+            Plane::<f64>::build(&PlaneDef {
+                normal: [0.0; 3],
+                point: [0.0; 3]
+            }),
             Err(ErrorKind::ZeroVector { attr: Attr::Normal })
         );
     }
@@ -163,7 +206,9 @@ mod tests {
         assert_eq!(p.vtable().kind, Entity::Plane);
         assert_eq!(p.kind(), Entity::Plane);
         // Dispatch goes through the installed table: the same answer as the plane itself.
-        let Shape::Plane(plane) = p.shape() else { panic!("not a plane") };
+        let Shape::Plane(plane) = p.shape() else {
+            panic!("not a plane")
+        };
         let r = ray([1.0, 2.0, 0.0], [0.1, -0.2, -1.0]);
         assert_eq!(p.hits(&r), plane.intersect(&r));
     }

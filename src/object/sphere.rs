@@ -5,10 +5,10 @@ use super::{
     object_material, object_print, object_specular,
 };
 use crate::error::{Attr, Entity, ErrorKind};
-use crate::material::{MaterialId, check_finite};
+use crate::material::MaterialId;
 use crate::print;
 use crate::ray::Ray;
-use crate::scalar::Scalar;
+use crate::scalar::{Scalar, load, load3};
 use crate::vec3::Vec3;
 use core::fmt;
 
@@ -35,17 +35,17 @@ pub struct Sphere<S> {
 impl<S: Scalar> Sphere<S> {
     /// Checks a definition: finite values, a radius above zero.
     pub(crate) fn build(def: &SphereDef) -> Result<Self, ErrorKind> {
-        check_finite(&def.center, Attr::Center)?;
-        check_finite(&[def.radius], Attr::Radius)?;
-        if def.radius <= 0.0 {
-            return Err(ErrorKind::NotPositive { attr: Attr::Radius });
-        }
-        let radius = S::from_f64(def.radius);
-        if radius <= S::ZERO {
+        let center = load3::<S>(def.center, Attr::Center)?;
+        let radius = load::<S>(def.radius, Attr::Radius)?;
+        if def.radius <= 0.0 || radius <= S::ZERO {
             return Err(ErrorKind::NotPositive { attr: Attr::Radius });
         }
         let r = radius.to_f64();
-        Ok(Self { center: Vec3::from_f64(def.center), radius, radius_squared: S::from_f64(r * r) })
+        Ok(Self {
+            center,
+            radius,
+            radius_squared: load(r * r, Attr::Radius)?,
+        })
     }
 
     /// The near root of `|base + t dir - center|^2 = r^2` (unit `dir`); a miss when the
@@ -87,7 +87,12 @@ pub fn sphere_init<S: Scalar>(
     material: MaterialId,
     def: &SphereDef,
 ) -> Result<Object<S>, ErrorKind> {
-    Object::init(&Sphere::VTABLE, name, material, Shape::Sphere(Sphere::build(def)?))
+    Object::init(
+        &Sphere::VTABLE,
+        name,
+        material,
+        Shape::Sphere(Sphere::build(def)?),
+    )
 }
 
 /// `hits` of a sphere.
@@ -118,17 +123,29 @@ mod tests {
     use crate::object::test_support::ray;
 
     fn ball() -> Object<f64> {
-        sphere_init("s", 0, &SphereDef { center: [0.0, 0.0, -10.0], radius: 2.0 }).unwrap()
+        sphere_init(
+            "s",
+            0,
+            &SphereDef {
+                center: [0.0, 0.0, -10.0],
+                radius: 2.0,
+            },
+        )
+        .unwrap()
     }
 
     #[test]
     fn near_root_and_normal() {
-        let hit = ball().hits(&ray([0.0, 0.0, 0.0], [0.0, 0.0, -1.0])).unwrap();
+        let hit = ball()
+            .hits(&ray([0.0, 0.0, 0.0], [0.0, 0.0, -1.0]))
+            .unwrap();
         assert_eq!(hit.t, 8.0);
         assert_eq!(hit.point, Vec3::new(0.0, 0.0, -8.0));
         assert_eq!(hit.normal, Vec3::new(0.0, 0.0, 1.0));
         // Off-axis: base (1,0,0) along -z meets the sphere at z = -10 + sqrt(3).
-        let hit = ball().hits(&ray([1.0, 0.0, 0.0], [0.0, 0.0, -1.0])).unwrap();
+        let hit = ball()
+            .hits(&ray([1.0, 0.0, 0.0], [0.0, 0.0, -1.0]))
+            .unwrap();
         assert!((hit.t - (10.0 - 3f64.sqrt())).abs() < 1e-12);
         assert!((hit.normal.length() - 1.0).abs() < 1e-15);
     }
@@ -146,17 +163,31 @@ mod tests {
     #[test]
     fn z_rule_applies_to_the_near_root() {
         // A sphere that pokes through the image plane: its near side is at z = 1.
-        let s: Object<f64> =
-            sphere_init("s", 0, &SphereDef { center: [0.0, 0.0, -1.0], radius: 2.0 }).unwrap();
+        let s: Object<f64> = sphere_init(
+            "s",
+            0,
+            &SphereDef {
+                center: [0.0, 0.0, -1.0],
+                radius: 2.0,
+            },
+        )
+        .unwrap();
         assert_eq!(s.hits(&ray([0.0, 0.0, 5.0], [0.0, 0.0, -1.0])), None);
     }
 
     #[test]
     fn radius_must_be_positive() {
         for radius in [0.0, -1.0, 1e-300] {
-            let def = SphereDef { center: [0.0; 3], radius };
+            let def = SphereDef {
+                center: [0.0; 3],
+                radius,
+            };
             let result = Sphere::<f32>::build(&def);
-            assert_eq!(result, Err(ErrorKind::NotPositive { attr: Attr::Radius }), "{radius}");
+            assert_eq!(
+                result,
+                Err(ErrorKind::NotPositive { attr: Attr::Radius }),
+                "{radius}"
+            );
         }
     }
 }

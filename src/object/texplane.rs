@@ -88,7 +88,11 @@ pub fn texplane_init<S: Scalar>(
     texture: u16,
     mode: TextureMode,
 ) -> Result<Object<S>, ErrorKind> {
-    let textured = TexPlane { rect: Rect::build(def)?, texture, mode };
+    let textured = TexPlane {
+        rect: Rect::build(def)?,
+        texture,
+        mode,
+    };
     Object::init(&TexPlane::VTABLE, name, material, Shape::TexPlane(textured))
 }
 
@@ -108,12 +112,20 @@ fn texel_factor<S: Scalar>(obj: &Object<S>, palette: &Palette<'_, S>, hit: &Hit<
 }
 
 /// Ambient look-up of a textured plane: the material's, times the texel.
-pub fn texplane_ambient<S: Scalar>(obj: &Object<S>, palette: &Palette<'_, S>, hit: &Hit<S>) -> Vec3<S> {
+pub fn texplane_ambient<S: Scalar>(
+    obj: &Object<S>,
+    palette: &Palette<'_, S>,
+    hit: &Hit<S>,
+) -> Vec3<S> {
     object_ambient(obj, palette, hit).mul_each(texel_factor(obj, palette, hit))
 }
 
 /// Diffuse look-up of a textured plane: the material's, times the texel.
-pub fn texplane_diffuse<S: Scalar>(obj: &Object<S>, palette: &Palette<'_, S>, hit: &Hit<S>) -> Vec3<S> {
+pub fn texplane_diffuse<S: Scalar>(
+    obj: &Object<S>,
+    palette: &Palette<'_, S>,
+    hit: &Hit<S>,
+) -> Vec3<S> {
     object_diffuse(obj, palette, hit).mul_each(texel_factor(obj, palette, hit))
 }
 
@@ -126,7 +138,10 @@ pub fn texplane_print<S: Scalar>(
     object_print(obj, palette, out)?;
     if let Shape::TexPlane(textured) = obj.shape() {
         textured.rect.print_attributes(out)?;
-        let name = palette.textures.get(usize::from(textured.texture)).map_or("", |t| t.name());
+        let name = palette
+            .textures
+            .get(usize::from(textured.texture))
+            .map_or("", |t| t.name());
         print::word(out, Attr::Texname, name)?;
         writeln!(out, "  {} {}", Attr::Mode, textured.mode as u8)?;
     }
@@ -143,12 +158,26 @@ mod tests {
     fn fit_mode_scales_by_texel_with_rows_flipped() {
         // A 2 x 2 image: top row red, white; bottom row green, blue.
         let ppm = b"P6 2 2 255 \xff\x00\x00\xff\xff\xff\x00\xff\x00\x00\x00\xff";
-        let textures = [Texture::build(&TextureDef { name: "t", filename: "t.ppm", ppm }).unwrap()];
+        let textures = [Texture::build(&TextureDef {
+            name: "t",
+            filename: "t.ppm",
+            ppm,
+        })
+        .unwrap()];
         let mats = materials();
         let cam = camera();
-        let palette = Palette { materials: &mats, textures: &textures, camera: &cam };
+        let palette = Palette {
+            materials: &mats,
+            textures: &textures,
+            camera: &cam,
+        };
         // An 8 x 6 wall at z = -4, material gray (ambient 0.5, diffuse 3).
-        let def = RectDef::new([0.0, 0.0, 1.0], [0.0, 0.0, -4.0], [1.0, 0.0, 0.0], [8.0, 6.0]);
+        let def = RectDef::new(
+            [0.0, 0.0, 1.0],
+            [0.0, 0.0, -4.0],
+            [1.0, 0.0, 0.0],
+            [8.0, 6.0],
+        );
         let obj: Object<f64> = texplane_init("w", 1, &def, 0, TextureMode::Fit).unwrap();
         let look = |x: f64, y: f64| {
             let hit = obj.hits(&ray([x, y, 0.0], [0.0, 0.0, -1.0])).unwrap();

@@ -58,8 +58,16 @@ pub fn tiled_plane_init<S: Scalar>(
     def: &RectDef,
     altmaterial: MaterialId,
 ) -> Result<Object<S>, ErrorKind> {
-    let tiled = TiledPlane { rect: Rect::build(def)?, altmaterial };
-    Object::init(&TiledPlane::VTABLE, name, material, Shape::TiledPlane(tiled))
+    let tiled = TiledPlane {
+        rect: Rect::build(def)?,
+        altmaterial,
+    };
+    Object::init(
+        &TiledPlane::VTABLE,
+        name,
+        material,
+        Shape::TiledPlane(tiled),
+    )
 }
 
 /// `hits` of a tiled plane: the infinite plane's.
@@ -101,15 +109,28 @@ mod tests {
     #[test]
     fn parity_picks_altmaterial() {
         // Floor y = -1, unit tiles, x axis along x. Material 0 is red, altmaterial 1 is gray.
-        let def = RectDef::new([0.0, 1.0, 0.0], [0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0]);
+        let def = RectDef::new(
+            [0.0, 1.0, 0.0],
+            [0.0, -1.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0],
+        );
         let obj: Object<f64> = tiled_plane_init("t", 0, &def, 1).unwrap();
         let mats = materials();
         let cam = camera();
-        let palette = Palette { materials: &mats, textures: &[], camera: &cam };
+        let palette = Palette {
+            materials: &mats,
+            textures: &[],
+            camera: &cam,
+        };
         // u = (1,0,0), v = n x u = (0,0,-1): q = (x, -z).
         let at = |x: f64, z: f64| {
             let hit = obj.hits(&ray([x, 1.0, z], [0.0, -1.0, 0.0])).unwrap();
-            (obj.material_at(&hit), obj.ambient(&palette, &hit), obj.specular(&palette, &hit))
+            (
+                obj.material_at(&hit),
+                obj.ambient(&palette, &hit),
+                obj.specular(&palette, &hit),
+            )
         };
         // x = 0.5, z = -0.5: ix = floor(100000.5) = 100000, iy = floor(100000.5): even → alt.
         assert_eq!(at(0.5, -0.5), (1, Vec3::new(0.5, 0.5, 0.5), 0.25));

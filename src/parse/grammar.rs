@@ -29,8 +29,11 @@ fn is_delimiter(b: u8) -> bool {
 
 /// Whitespace and `#` comments (to the end of the line).
 fn blank(input: &[u8]) -> IResult<&[u8], usize> {
-    many0_count(alt((take_while1(is_space), recognize(pair(char('#'), take_till(|b| b == b'\n'))))))
-        .parse(input)
+    many0_count(alt((
+        take_while1(is_space),
+        recognize(pair(char('#'), take_till(|b| b == b'\n'))),
+    )))
+    .parse(input)
 }
 
 /// `{`, `}`, or a run of anything else up to whitespace or a brace.
@@ -144,7 +147,10 @@ impl<'i> Block<'i> {
     }
 
     fn missing(&self, attr: Attr) -> ErrorKind {
-        ErrorKind::MissingAttribute { entity: self.entity, attr }
+        ErrorKind::MissingAttribute {
+            entity: self.entity,
+            attr,
+        }
     }
 
     /// The first `N` numbers of a required attribute.
@@ -195,7 +201,10 @@ const fn is_object(entity: Entity) -> bool {
 
 fn is_keyword(token: Tok<'_>) -> bool {
     let attributes = Entity::ALL.iter().flat_map(|&e| attributes_of(e).iter());
-    attributes.map(|a| a.keyword()).chain(Entity::ALL.iter().map(|e| e.keyword())).any(|k| token.is(k.as_bytes()))
+    attributes
+        .map(|a| a.keyword())
+        .chain(Entity::ALL.iter().map(|e| e.keyword()))
+        .any(|k| token.is(k.as_bytes()))
 }
 
 pub(super) fn parse<
@@ -218,21 +227,38 @@ pub(super) fn parse<
             .copied()
             .find(|e| keyword.is(e.keyword().as_bytes()))
             .ok_or_else(|| {
-                cursor.error(ErrorKind::UnknownEntity { found: Snippet::new(keyword.bytes) }, keyword.at)
+                cursor.error(
+                    ErrorKind::UnknownEntity {
+                        found: Snippet::new(keyword.bytes),
+                    },
+                    keyword.at,
+                )
             })?;
         let block = parse_block(&mut cursor, entity, keyword)?;
         add(&mut builder, &block, &mut textures)
             .map_err(|kind| cursor.error(kind, block.offset_of(&kind)))?;
     }
-    builder.build().map_err(|kind| cursor.error(kind, text.len()))
+    builder
+        .build()
+        .map_err(|kind| cursor.error(kind, text.len()))
 }
 
-fn parse_block<'i>(c: &mut Cursor<'i>, entity: Entity, keyword: Tok<'i>) -> Result<Block<'i>, Error> {
+fn parse_block<'i>(
+    c: &mut Cursor<'i>,
+    entity: Entity,
+    keyword: Tok<'i>,
+) -> Result<Block<'i>, Error> {
     let name = match c.next()? {
         Some(t) if !t.is_brace() => t,
         other => {
             let at = other.map_or(c.text.len(), |t| t.at);
-            return Err(c.error(ErrorKind::ExpectedName { entity, found: snippet(other) }, at));
+            return Err(c.error(
+                ErrorKind::ExpectedName {
+                    entity,
+                    found: snippet(other),
+                },
+                at,
+            ));
         }
     };
     let name_text = c.text_of(name, NAME_CAPACITY)?;
@@ -240,7 +266,13 @@ fn parse_block<'i>(c: &mut Cursor<'i>, entity: Entity, keyword: Tok<'i>) -> Resu
         Some(t) if t.is(b"{") => t,
         other => {
             let at = other.map_or(c.text.len(), |t| t.at);
-            return Err(c.error(ErrorKind::ExpectedOpenBrace { entity, found: snippet(other) }, at));
+            return Err(c.error(
+                ErrorKind::ExpectedOpenBrace {
+                    entity,
+                    found: snippet(other),
+                },
+                at,
+            ));
         }
     };
     let mut block = Block {
@@ -264,7 +296,13 @@ fn parse_block<'i>(c: &mut Cursor<'i>, entity: Entity, keyword: Tok<'i>) -> Resu
             .copied()
             .find(|a| token.is(a.keyword().as_bytes()))
             .ok_or_else(|| {
-                c.error(ErrorKind::UnknownAttribute { entity, found: Snippet::new(token.bytes) }, token.at)
+                c.error(
+                    ErrorKind::UnknownAttribute {
+                        entity,
+                        found: Snippet::new(token.bytes),
+                    },
+                    token.at,
+                )
             })?;
         if first && is_object(entity) && attr != Attr::Material {
             return Err(c.error(ErrorKind::MaterialNotFirst { entity }, token.at));
@@ -275,7 +313,11 @@ fn parse_block<'i>(c: &mut Cursor<'i>, entity: Entity, keyword: Tok<'i>) -> Resu
         }
         let (value, value_at) = parse_values(c, attr)?;
         if let Some(slot) = block.slots.get_mut(attr as usize) {
-            *slot = Some(Slot { at: token.at, value_at, value });
+            *slot = Some(Slot {
+                at: token.at,
+                value_at,
+                value,
+            });
         }
     }
 }
@@ -285,12 +327,22 @@ fn parse_values<'i>(c: &mut Cursor<'i>, attr: Attr) -> Result<(Value<'i>, usize)
         Values::Word => {
             return match c.next()? {
                 Some(t) if !t.is_brace() => {
-                    let max = if attr == Attr::Filename { PATH_CAPACITY } else { usize::MAX };
+                    let max = if attr == Attr::Filename {
+                        PATH_CAPACITY
+                    } else {
+                        usize::MAX
+                    };
                     Ok((Value::Word(c.text_of(t, max)?), t.at))
                 }
                 other => {
                     let at = other.map_or(c.text.len(), |t| t.at);
-                    Err(c.error(ErrorKind::ExpectedWord { attr, found: snippet(other) }, at))
+                    Err(c.error(
+                        ErrorKind::ExpectedWord {
+                            attr,
+                            found: snippet(other),
+                        },
+                        at,
+                    ))
                 }
             };
         }
@@ -302,13 +354,19 @@ fn parse_values<'i>(c: &mut Cursor<'i>, attr: Attr) -> Result<(Value<'i>, usize)
     for (index, slot) in (0u8..).zip(values.iter_mut().take(usize::from(count))) {
         let token = c.peek()?;
         let Some(t) = token else {
-            let kind = ErrorKind::MissingValues { attr, expected: count, found: index, next: Snippet::END };
+            let kind = ErrorKind::MissingValues {
+                attr,
+                expected: count,
+                found: index,
+                next: Snippet::END,
+            };
             return Err(c.error(kind, c.text.len()));
         };
         let kind = match parse_number(t.bytes) {
-            Ok(v) if whole && v != libm::trunc(v) => {
-                ErrorKind::NotAnInteger { attr, found: Snippet::new(t.bytes) }
-            }
+            Ok(v) if whole && v != libm::trunc(v) => ErrorKind::NotAnInteger {
+                attr,
+                found: Snippet::new(t.bytes),
+            },
             Ok(v) => {
                 *slot = v;
                 if index == 0 {
@@ -317,18 +375,36 @@ fn parse_values<'i>(c: &mut Cursor<'i>, attr: Attr) -> Result<(Value<'i>, usize)
                 c.advance(t);
                 continue;
             }
-            Err(NumberError::NotFinite) => ErrorKind::NotFinite { found: Snippet::new(t.bytes) },
-            Err(NumberError::TooLarge) => ErrorKind::NumberTooLarge { found: Snippet::new(t.bytes) },
+            Err(NumberError::NotFinite) => ErrorKind::NotFinite {
+                found: Snippet::new(t.bytes),
+            },
+            Err(NumberError::TooLarge) => ErrorKind::NumberTooLarge {
+                found: Snippet::new(t.bytes),
+            },
             Err(NumberError::NotANumber) if t.is_brace() || is_keyword(t) => {
-                ErrorKind::MissingValues { attr, expected: count, found: index, next: Snippet::new(t.bytes) }
+                ErrorKind::MissingValues {
+                    attr,
+                    expected: count,
+                    found: index,
+                    next: Snippet::new(t.bytes),
+                }
             }
-            Err(NumberError::NotANumber) => ErrorKind::NotANumber { attr, found: Snippet::new(t.bytes) },
+            Err(NumberError::NotANumber) => ErrorKind::NotANumber {
+                attr,
+                found: Snippet::new(t.bytes),
+            },
         };
         return Err(c.error(kind, t.at));
     }
     if let Some(t) = c.peek()? {
         if !matches!(parse_number(t.bytes), Err(NumberError::NotANumber)) {
-            return Err(c.error(ErrorKind::ExtraValue { attr, expected: count }, t.at));
+            return Err(c.error(
+                ErrorKind::ExtraValue {
+                    attr,
+                    expected: count,
+                },
+                t.at,
+            ));
         }
     }
     Ok((Value::Numbers(values), first_at))
@@ -388,7 +464,11 @@ fn add<
         }
         Entity::Light => {
             let location = block.numbers(Attr::Location)?;
-            return builder.light(&LightDef::point(name, location, block.numbers(Attr::Emissivity)?));
+            return builder.light(&LightDef::point(
+                name,
+                location,
+                block.numbers(Attr::Emissivity)?,
+            ));
         }
         Entity::Spotlight => {
             return builder.light(&LightDef::spot(
@@ -405,7 +485,11 @@ fn add<
                 file: Snippet::new(filename.as_bytes()),
                 error,
             })?;
-            return builder.texture(&TextureDef { name, filename, ppm });
+            return builder.texture(&TextureDef {
+                name,
+                filename,
+                ppm,
+            });
         }
         Entity::Plane => ShapeDef::Plane(PlaneDef {
             normal: block.numbers(Attr::Normal)?,
@@ -421,11 +505,20 @@ fn add<
             let mode = match block.numbers::<1>(Attr::Mode)?[0] {
                 0.0 => TextureMode::Fit,
                 1.0 => TextureMode::Tile,
-                _ => return Err(ErrorKind::OutOfRange { attr: Attr::Mode, range: Range::ZeroOrOne }),
+                _ => {
+                    return Err(ErrorKind::OutOfRange {
+                        attr: Attr::Mode,
+                        range: Range::ZeroOrOne,
+                    });
+                }
             };
             ShapeDef::TexPlane(rect(block)?, block.word(Attr::Texname)?, mode)
         }
     };
     let material = block.word(Attr::Material)?;
-    builder.object(&ObjectDef { name, material, shape })
+    builder.object(&ObjectDef {
+        name,
+        material,
+        shape,
+    })
 }

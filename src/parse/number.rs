@@ -55,20 +55,35 @@ pub fn decimal(input: &[u8]) -> IResult<&[u8], Decimal<'_>> {
     let (rest, exponent) =
         opt(preceded(one_of("eE"), pair(opt(one_of("+-")), digit1))).parse(rest)?;
     let exponent = exponent.map_or(0, |(sign, digits): (Option<char>, &[u8])| {
-        let magnitude = digits
-            .iter()
-            .fold(0i64, |acc, d| (acc * 10 + i64::from(d - b'0')).min(1_000_000_000));
-        if sign == Some('-') { -magnitude } else { magnitude }
+        let magnitude = digits.iter().fold(0i64, |acc, d| {
+            (acc * 10 + i64::from(d - b'0')).min(1_000_000_000)
+        });
+        if sign == Some('-') {
+            -magnitude
+        } else {
+            magnitude
+        }
     });
-    Ok((rest, Decimal { negative: sign == Some('-'), integer, fraction, exponent }))
+    Ok((
+        rest,
+        Decimal {
+            negative: sign == Some('-'),
+            integer,
+            fraction,
+            exponent,
+        },
+    ))
 }
 
 /// Reads a whole token as a finite `f64`.
 pub fn parse_number(token: &[u8]) -> Result<f64, NumberError> {
     match decimal(token) {
-        Ok((rest, d)) if rest.is_empty() => to_f64(&d),
+        Ok((&[], d)) => to_f64(&d),
         _ => {
-            let unsigned = token.strip_prefix(b"-").or(token.strip_prefix(b"+")).unwrap_or(token);
+            let unsigned = token
+                .strip_prefix(b"-")
+                .or(token.strip_prefix(b"+"))
+                .unwrap_or(token);
             let named = [&b"nan"[..], b"inf", b"infinity"];
             if named.iter().any(|n| unsigned.eq_ignore_ascii_case(n)) {
                 Err(NumberError::NotFinite)
@@ -89,8 +104,11 @@ pub fn to_f64(d: &Decimal<'_>) -> Result<f64, NumberError> {
     let mut count = 0usize;
     let mut exponent = d.exponent;
     let mut inexact = false;
-    for (&c, in_fraction) in
-        d.integer.iter().map(|c| (c, false)).chain(d.fraction.iter().map(|c| (c, true)))
+    for (&c, in_fraction) in d
+        .integer
+        .iter()
+        .map(|c| (c, false))
+        .chain(d.fraction.iter().map(|c| (c, true)))
     {
         let digit = c - b'0';
         if count == 0 && digit == 0 {
@@ -125,8 +143,13 @@ pub fn to_f64(d: &Decimal<'_>) -> Result<f64, NumberError> {
     let exponent = exponent as i32;
     if !inexact && count <= 15 && (-22..=22).contains(&exponent) {
         // Clinger's fast path: both operands are exact, so one rounding is all there is.
-        let m = significant.iter().fold(0u64, |acc, &c| acc * 10 + u64::from(c)) as f64;
-        let p = POWERS_OF_TEN.get(exponent.unsigned_abs() as usize).copied().unwrap_or(1.0);
+        let m = significant
+            .iter()
+            .fold(0u64, |acc, &c| acc * 10 + u64::from(c)) as f64;
+        let p = POWERS_OF_TEN
+            .get(exponent.unsigned_abs() as usize)
+            .copied()
+            .unwrap_or(1.0);
         let v = if exponent >= 0 { m * p } else { m / p };
         return Ok(sign * v);
     }
@@ -173,7 +196,11 @@ fn slow_path(digits: &[u8], exponent: i32, inexact: bool) -> Option<f64> {
         let dropped = quotient & ((1u128 << excess) - 1);
         let top = (quotient >> excess) as u64;
         let binary_exponent = binary_exponent + excess as i32;
-        round(top, binary_exponent, remainder_nonzero || dropped != 0 || inexact)
+        round(
+            top,
+            binary_exponent,
+            remainder_nonzero || dropped != 0 || inexact,
+        )
     }
 }
 
@@ -185,12 +212,20 @@ fn round(top: u64, exponent: i32, sticky: bool) -> Option<f64> {
         return None;
     }
     // Bits below the 53 an f64 keeps (more for subnormals).
-    let drop = if leading >= -1022 { 11 } else { 11 + (-1022 - leading) };
+    let drop = if leading >= -1022 {
+        11
+    } else {
+        11 + (-1022 - leading)
+    };
     if drop > 64 {
         return Some(0.0);
     }
     let drop = drop as u32;
-    let (kept, rest) = if drop == 64 { (0, top) } else { (top >> drop, top & ((1u64 << drop) - 1)) };
+    let (kept, rest) = if drop == 64 {
+        (0, top)
+    } else {
+        (top >> drop, top & ((1u64 << drop) - 1))
+    };
     let half = 1u64 << (drop - 1);
     let up = rest > half || (rest == half && (sticky || kept & 1 == 1));
     let mut kept = kept + u64::from(up);
@@ -266,7 +301,9 @@ impl Big {
     }
 
     fn bit(&self, i: u32) -> bool {
-        self.limbs.get((i / 32) as usize).is_some_and(|limb| limb >> (i % 32) & 1 == 1)
+        self.limbs
+            .get((i / 32) as usize)
+            .is_some_and(|limb| limb >> (i % 32) & 1 == 1)
     }
 
     fn shl(&mut self, bits: u32) {
@@ -358,7 +395,10 @@ mod tests {
 
     #[test]
     fn course_numbers() {
-        for s in ["4", "-6.93", "0.8", "1e-3", "2.121", "-5.121", "250.0", "0.4", "100000", "+3", ".5", "5."] {
+        for s in [
+            "4", "-6.93", "0.8", "1e-3", "2.121", "-5.121", "250.0", "0.4", "100000", "+3", ".5",
+            "5.",
+        ] {
             assert_eq!(read(s).unwrap(), s.parse::<f64>().unwrap(), "{s}");
         }
         assert_eq!(read("-0").unwrap().to_bits(), (-0.0f64).to_bits());
@@ -381,7 +421,11 @@ mod tests {
             "1e-400",
             "7.2057594037927933e16",
         ] {
-            assert_eq!(read(s).unwrap().to_bits(), s.parse::<f64>().unwrap().to_bits(), "{s}");
+            assert_eq!(
+                read(s).unwrap().to_bits(),
+                s.parse::<f64>().unwrap().to_bits(),
+                "{s}"
+            );
         }
     }
 
@@ -393,7 +437,9 @@ mod tests {
         for s in ["nan", "-inf", "Infinity", "NaN"] {
             assert_eq!(read(s), Err(NumberError::NotFinite), "{s}");
         }
-        for s in ["", ".", "-", "e5", "1e", "1.2.3", "0x10", "1,5", "--1", "1e+"] {
+        for s in [
+            "", ".", "-", "e5", "1e", "1.2.3", "0x10", "1,5", "--1", "1e+",
+        ] {
             assert_eq!(read(s), Err(NumberError::NotANumber), "{s}");
         }
     }

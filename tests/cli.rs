@@ -1,0 +1,93 @@
+//! The `microray` binary: `check` and `print` on good and bad files.
+
+mod common;
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn microray(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_microray"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+#[test]
+fn check_accepts_project_scenes() {
+    for path in common::project_scenes() {
+        let path = path.to_str().unwrap();
+        let out = microray(&["check", path]);
+        assert!(out.status.success(), "{path}: {}", text(&out.stderr));
+        let stdout = text(&out.stdout);
+        assert!(
+            stdout.starts_with(&format!("ok: {path}: 320x240 pixels, ")),
+            "{stdout}"
+        );
+    }
+}
+
+#[test]
+fn check_accepts_every_conformance_scene() {
+    let Some(dir) = common::conformance_dir() else {
+        return;
+    };
+    for path in common::scene_files(&dir) {
+        let out = microray(&["check", path.to_str().unwrap()]);
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            path.display(),
+            text(&out.stderr)
+        );
+        assert!(text(&out.stdout).starts_with("ok: "));
+    }
+}
+
+#[test]
+fn check_rejects_malformed_files_with_position_and_exit_1() {
+    let dir = std::env::temp_dir().join(format!("microray-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let cases: [(&str, &[u8], &str); 4] = [
+        ("typo.txt", b"camera c { pixeldim 64 48 worlddim 8 6 viewpoint 4 3 3 }\nsphere s {\n  material m center 0 0 -5 radius 1 }\n", "typo.txt:3:12: error: undefined material `m`"),
+        ("braces.txt", &[b'{'; 20_000], "braces.txt:1:1: error: expected an entity"),
+        ("binary.txt", b"\x7fELF\x02\x01\x01\x00\x00", "binary.txt:1:1: error: invalid character 0x7f"),
+        ("texture.txt", b"texture t { filename missing.ppm }", "texture.txt:1:22: error: texture file `missing.ppm`: file not found"),
+    ];
+    for (name, contents, expected) in cases {
+        let path = dir.join(name);
+        std::fs::write(&path, contents).unwrap();
+        let out = microray(&["check", path.to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(1), "{name}");
+        let stderr = text(&out.stderr);
+        let expected = format!("{}/{expected}", dir.display());
+        assert!(stderr.starts_with(&expected), "{name}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{stderr}");
+        assert!(out.stdout.is_empty());
+    }
+    let missing = microray(&["check", "no/such/file.txt"]);
+    assert_eq!(missing.status.code(), Some(1));
+    assert!(text(&missing.stderr).starts_with("no/such/file.txt: error: cannot read: "));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn print_writes_text_that_checks() {
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/gallery.txt");
+    let out = microray(&["print", scene.to_str().unwrap()]);
+    assert!(out.status.success());
+    let printed = text(&out.stdout);
+    assert!(
+        printed.contains("texplane picture\n{\n  material matte\n  normal 0 0 1\n"),
+        "{printed}"
+    );
+    // Written next to the original so the texture's relative path still resolves.
+    let copy = scene.with_file_name(format!("printed-{}.txt", std::process::id()));
+    std::fs::write(&copy, &printed).unwrap();
+    let again = microray(&["print", copy.to_str().unwrap()]);
+    std::fs::remove_file(&copy).unwrap();
+    assert_eq!(text(&again.stdout), printed);
+}

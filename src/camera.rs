@@ -3,6 +3,7 @@
 use crate::error::{Attr, ErrorKind};
 use crate::name::{Name, bounded};
 use crate::print;
+use crate::ray::Ray;
 use crate::scalar::{Scalar, load2, load3};
 use crate::vec3::Vec3;
 use core::fmt;
@@ -100,6 +101,23 @@ impl<S: Scalar> Camera<S> {
     /// The eye.
     pub fn viewpoint(&self) -> Vec3<S> {
         self.viewpoint
+    }
+
+    /// The primary ray through pixel `(x, y)`, `y = 0` the bottom row: from the viewpoint to
+    /// `(worlddim.x * x / (pixeldim.x - 1), worlddim.y * y / (pixeldim.y - 1), 0)`. `None`
+    /// when the viewpoint lies on that point (no direction).
+    #[inline]
+    pub fn primary_ray(&self, x: u16, y: u16) -> Option<Ray<S>> {
+        let span = |world: S, i: u16, pixels: u16| {
+            world * S::from_f64(f64::from(i)) / S::from_f64(f64::from(pixels.saturating_sub(1)))
+        };
+        let on_screen = Vec3::new(
+            span(self.world[0], x, self.width),
+            span(self.world[1], y, self.height),
+            S::ZERO,
+        );
+        let dir = (on_screen - self.viewpoint).unit()?;
+        Some(Ray::new(self.viewpoint, dir))
     }
 
     /// Writes the camera block.

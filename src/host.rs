@@ -1,6 +1,10 @@
-//! Host (`std`) support: reading texture files next to a scene file.
+//! Host (`std`) support: texture files next to a scene file, and an RGB framebuffer that
+//! writes PPM and PNG.
 
 use crate::error::TextureError;
+use core::convert::Infallible;
+use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
+use embedded_graphics::prelude::{DrawTarget, OriginDimensions, Pixel, Size};
 use std::path::{Path, PathBuf};
 
 /// A texture resolver that reads files relative to `scene_dir`, the scene file's folder.
@@ -19,3 +23,74 @@ pub fn texture_files(scene_dir: &Path) -> impl FnMut(&str) -> Result<&'static [u
 
 /// The scene type the host tracer uses: room for large scenes and wide images.
 pub type HostScene<'t, S> = crate::Scene<'t, S, 256, 64, 32, 16, 8192>;
+
+/// An RGB image in memory, rows top first: the host tracer's draw target.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Framebuffer {
+    width: u32,
+    height: u32,
+    rgb: Vec<u8>,
+}
+
+impl Framebuffer {
+    /// A black image.
+    pub fn new(size: Size) -> Self {
+        let bytes = size.width as usize * size.height as usize * 3;
+        Self { width: size.width, height: size.height, rgb: vec![0; bytes] }
+    }
+
+    /// The pixels, three bytes each, rows top first.
+    pub fn rgb(&self) -> &[u8] {
+        &self.rgb
+    }
+
+    /// Binary PPM: `P6\n{w} {h} 255\n` and the pixels.
+    pub fn to_ppm(&self) -> Vec<u8> {
+        let mut out = format!("P6\n{} {} 255\n", self.width, self.height).into_bytes();
+        out.extend_from_slice(&self.rgb);
+        out
+    }
+
+    /// PNG, 8-bit RGB.
+    #[cfg(feature = "std")]
+    pub fn to_png(&self) -> Result<Vec<u8>, png::EncodingError> {
+        let mut out = Vec::new();
+        let mut encoder = png::Encoder::new(&mut out, self.width, self.height);
+        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_depth(png::BitDepth::Eight);
+        let mut writer = encoder.write_header()?;
+        writer.write_image_data(&self.rgb)?;
+        writer.finish()?;
+        Ok(out)
+    }
+}
+
+impl OriginDimensions for Framebuffer {
+    fn size(&self) -> Size {
+        Size::new(self.width, self.height)
+    }
+}
+
+impl DrawTarget for Framebuffer {
+    type Color = Rgb888;
+    type Error = Infallible;
+
+    fn draw_iter<I: IntoIterator<Item = Pixel<Rgb888>>>(&mut self, pixels: I) -> Result<(), Infallible> {
+        for Pixel(point, color) in pixels {
+            let (Ok(x), Ok(y)) = (u32::try_from(point.x), u32::try_from(point.y)) else { continue };
+            if x < self.width && y < self.height {
+                let at = (y as usize * self.width as usize + x as usize) * 3;
+                if let Some(slot) = self.rgb.get_mut(at..at + 3) {
+                    slot.copy_from_slice(&[color.r(), color.g(), color.b()]);
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Reads a binary PPM into a framebuffer (for comparing with reference images).
+pub fn read_ppm(bytes: &[u8]) -> Option<Framebuffer> {
+    let (width, height, pixels) = crate::texture::decode_ppm(bytes).ok()?;
+    Some(Framebuffer { width: u32::from(width), height: u32::from(height), rgb: pixels.to_vec() })
+}

@@ -67,6 +67,8 @@ pub mod print;
 pub mod ray;
 pub mod scalar;
 pub mod scene;
+pub mod shade;
+pub mod render;
 pub mod texture;
 pub mod vec3;
 

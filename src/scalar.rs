@@ -46,6 +46,22 @@ pub trait Scalar:
     fn to_f64(self) -> f64;
     /// The square root; the root of a negative number is defined as zero.
     fn sqrt(self) -> Self;
+    /// `self` to the power `exponent`, for glints; defined as 0 when `self <= 0` (where the
+    /// course took `pow` of a negative dot product).
+    fn powf(self, exponent: Self) -> Self;
+    /// The channel byte of a colour value: `self * 255` computed exactly (in `f64` for the
+    /// float types), clamped to 0..=255 and truncated, as the course's images need.
+    #[inline]
+    fn to_byte(self) -> u8 {
+        let v = self.to_f64() * 255.0;
+        if v >= 255.0 {
+            255
+        } else if v > 0.0 {
+            v as u8
+        } else {
+            0
+        }
+    }
     /// The largest integer not above the value, saturated to the `i64` range.
     fn floor_to_i64(self) -> i64;
     /// The nearest value of this type, or `None` when `value` is outside the type's range.
@@ -93,6 +109,10 @@ impl Scalar for f64 {
         if self > 0.0 { libm::sqrt(self) } else { 0.0 }
     }
     #[inline]
+    fn powf(self, exponent: Self) -> Self {
+        if self > 0.0 { libm::pow(self, exponent) } else { 0.0 }
+    }
+    #[inline]
     fn floor_to_i64(self) -> i64 {
         // `as` saturates and maps NaN to 0: never undefined, never a panic.
         libm::floor(self) as i64
@@ -119,6 +139,10 @@ impl Scalar for f32 {
     #[inline]
     fn sqrt(self) -> Self {
         if self > 0.0 { libm::sqrtf(self) } else { 0.0 }
+    }
+    #[inline]
+    fn powf(self, exponent: Self) -> Self {
+        if self > 0.0 { libm::powf(self, exponent) } else { 0.0 }
     }
     #[inline]
     fn floor_to_i64(self) -> i64 {
@@ -225,6 +249,22 @@ mod tests {
         assert_eq!(Scalar::sqrt(-4.0f32), 0.0);
         assert_eq!(Scalar::sqrt(f64::NAN), 0.0);
         assert_eq!(Scalar::sqrt(9.0f64), 3.0);
+    }
+
+    #[test]
+    fn bytes_truncate_and_clamp() {
+        assert_eq!(0.5f64.to_byte(), 127);
+        assert_eq!((1.0f64 / 255.0 * 3.0).to_byte(), 3);
+        assert_eq!(2.0f64.to_byte(), 255);
+        assert_eq!((-1.0f32).to_byte(), 0);
+        assert_eq!(f64::NAN.to_byte(), 0);
+    }
+
+    #[test]
+    fn power_of_non_positive_is_zero() {
+        assert_eq!((-0.5f64).powf(2.0), 0.0);
+        assert_eq!(0.0f32.powf(50.0), 0.0);
+        assert_eq!(0.5f64.powf(2.0), 0.25);
     }
 
     #[test]

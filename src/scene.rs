@@ -8,7 +8,7 @@ use crate::camera::{Camera, CameraDef};
 use crate::error::{Collection, Entity, Error, ErrorKind, Snippet};
 use crate::light::{Light, LightDef};
 use crate::material::{Material, MaterialDef, MaterialId};
-use crate::object::{Hit, Object, ObjectDef, Palette};
+use crate::object::{Hit, Object, ObjectDef, Palette, closest_hit};
 use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::texture::{Texture, TextureDef};
@@ -273,18 +273,7 @@ impl<
     /// The nearest hit with `t > 0` over all objects, skipping object `skip` (the one the
     /// ray leaves from); ties go to the object defined first.
     pub fn closest_hit(&self, ray: &Ray<S>, skip: Option<usize>) -> Option<(usize, Hit<S>)> {
-        let mut best: Option<(usize, Hit<S>)> = None;
-        for (index, object) in self.objects.iter().enumerate() {
-            if Some(index) == skip {
-                continue;
-            }
-            if let Some(hit) = object.hits(ray) {
-                if best.as_ref().is_none_or(|(_, b)| hit.t < b.t) {
-                    best = Some((index, hit));
-                }
-            }
-        }
-        best
+        closest_hit(&self.objects, ray, skip)
     }
 }
 

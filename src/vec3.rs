@@ -1,7 +1,7 @@
 //! Three-component vectors: points, directions and colours.
 
 use crate::scalar::Scalar;
-use core::ops::{Add, Mul, Neg, Sub};
+use core::ops::{Add, Div, Mul, Neg, Sub};
 
 /// A vector of three [`Scalar`]s. Colours use it too (red, green, blue), as the course did.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -63,16 +63,12 @@ impl<S: Scalar> Vec3<S> {
         self.dot(self).sqrt()
     }
 
-    /// The vector scaled to unit length, or `None` for the zero vector (where the course
+    /// The vector divided by its length, or `None` for the zero vector (where the course
     /// produced NaN).
     #[inline]
     pub fn unit(self) -> Option<Self> {
         let length = self.length();
-        if length > S::ZERO {
-            Some(self * (S::ONE / length))
-        } else {
-            None
-        }
+        if length > S::ZERO { Some(self / length) } else { None }
     }
 
     /// The largest component.
@@ -138,6 +134,14 @@ impl<S: Scalar> Neg for Vec3<S> {
     #[inline]
     fn neg(self) -> Self {
         Self::new(-self.x, -self.y, -self.z)
+    }
+}
+
+impl<S: Scalar> Div<S> for Vec3<S> {
+    type Output = Self;
+    #[inline]
+    fn div(self, k: S) -> Self {
+        Self::new(self.x / k, self.y / k, self.z / k)
     }
 }
 

@@ -1,18 +1,19 @@
 //! The std tracer: a thin shell over the library.
 
-use clap::{Parser, Subcommand};
-use microray::host::{HostScene, texture_files};
+use clap::{Parser, Subcommand, ValueEnum};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use microray::Scalar;
+use microray::host::{Framebuffer, HostScene, texture_files};
 use microray::parse::parse_scene;
 use microray::print::print_scene;
+use microray::render::Renderer;
+use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::time::{Duration, Instant};
 
 #[derive(Parser)]
-#[command(
-    name = "microray",
-    version,
-    about = "A no_std ray tracer for microcontroller displays: the std front end"
-)]
+#[command(name = "microray", version, about = "A no_std ray tracer for microcontroller displays: the std front end")]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -30,33 +31,42 @@ enum Command {
         /// The scene file.
         scene: PathBuf,
     },
+    /// Render a scene to a binary PPM (`.ppm`) or PNG (`.png`) image.
+    Render {
+        /// The scene file.
+        scene: PathBuf,
+        /// The image to write; the extension picks the format.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// The number type to compute in.
+        #[arg(long, value_enum, default_value_t = Number::F64)]
+        number: Number,
+        /// No progress bar and no summary line.
+        #[arg(short, long)]
+        quiet: bool,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum Number {
+    F64,
+    F32,
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match &cli.command {
-        Command::Check { scene } => load(scene).map(|s| {
-            let cam = s.camera();
-            let spots = s.lights().iter().filter(|l| l.spot.is_some()).count();
-            println!(
-                "ok: {}: {}x{} pixels, {}, {}, {} ({} spot), {}",
-                scene.display(),
-                cam.width(),
-                cam.height(),
-                count(s.materials().len(), "material"),
-                count(s.textures().len(), "texture"),
-                count(s.lights().len(), "light"),
-                spots,
-                count(s.objects().len(), "object"),
-            );
-        }),
-        Command::Print { scene } => load(scene).and_then(|s| {
+        Command::Check { scene } => check(scene),
+        Command::Print { scene } => load::<f64>(scene).and_then(|s| {
             let mut text = String::new();
-            print_scene(&s, &mut text)
-                .map_err(|_| format!("{}: error: printing failed", scene.display()))?;
+            print_scene(&s, &mut text).map_err(|_| format!("{}: error: printing failed", scene.display()))?;
             print!("{text}");
             Ok(())
         }),
+        Command::Render { scene, output, number, quiet } => match number {
+            Number::F64 => render::<f64>(scene, output, *quiet),
+            Number::F32 => render::<f32>(scene, output, *quiet),
+        },
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -67,23 +77,92 @@ fn main() -> ExitCode {
     }
 }
 
-/// Reads and parses a scene; the error is the full `FILE:LINE:COL: error: ...` line.
-fn load(path: &Path) -> Result<HostScene<'static, f64>, String> {
-    let text =
-        std::fs::read(path).map_err(|e| format!("{}: error: cannot read: {e}", path.display()))?;
-    let dir = path.parent().unwrap_or(Path::new("."));
-    parse_scene(&text, texture_files(dir)).map_err(|e| match e.position {
-        Some(p) => format!(
-            "{}:{}:{}: error: {}",
-            path.display(),
-            p.line,
-            p.column,
-            e.kind
-        ),
-        None => format!("{}: error: {}", path.display(), e.kind),
-    })
+fn check(path: &Path) -> Result<(), String> {
+    let s = load::<f64>(path)?;
+    let cam = s.camera();
+    let spots = s.lights().iter().filter(|l| l.spot.is_some()).count();
+    println!(
+        "ok: {}: {}x{} pixels, {}, {}, {} ({} spot), {}",
+        path.display(),
+        cam.width(),
+        cam.height(),
+        count(s.materials().len(), "material"),
+        count(s.textures().len(), "texture"),
+        count(s.lights().len(), "light"),
+        spots,
+        count(s.objects().len(), "object"),
+    );
+    Ok(())
 }
 
 fn count(n: usize, noun: &str) -> String {
     format!("{n} {noun}{}", if n == 1 { "" } else { "s" })
+}
+
+/// Reads and parses a scene; the error is the full `FILE:LINE:COL: error: ...` line.
+fn load<S: Scalar>(path: &Path) -> Result<HostScene<'static, S>, String> {
+    let text = std::fs::read(path).map_err(|e| format!("{}: error: cannot read: {e}", path.display()))?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    parse_scene(&text, texture_files(dir)).map_err(|e| match e.position {
+        Some(p) => format!("{}:{}:{}: error: {}", path.display(), p.line, p.column, e.kind),
+        None => format!("{}: error: {}", path.display(), e.kind),
+    })
+}
+
+enum Format {
+    Ppm,
+    Png,
+}
+
+fn render<S: Scalar>(path: &Path, output: &Path, quiet: bool) -> Result<(), String> {
+    let extension = output.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let format = match extension.as_deref() {
+        Some("ppm") => Format::Ppm,
+        Some("png") => Format::Png,
+        _ => return Err(format!("{}: error: unknown image format (use .ppm or .png)", output.display())),
+    };
+    let scene = load::<S>(path)?;
+    let renderer = Renderer::new(&scene);
+    let size = renderer.size();
+    let mut image = Framebuffer::new(size);
+    let mut row = vec![Default::default(); size.width as usize];
+    let area = embedded_graphics::primitives::Rectangle::new(Default::default(), size);
+    let start = Instant::now();
+    let mut bar: Option<ProgressBar> = None;
+    let result = renderer.render_area(&mut image, area, &mut row, |done| {
+        // Only renders that take more than a moment get a bar.
+        if !quiet && bar.is_none() && start.elapsed() > Duration::from_millis(300) {
+            let b = ProgressBar::with_draw_target(Some(u64::from(done.total)), ProgressDrawTarget::stderr());
+            let style = ProgressStyle::with_template("{bar:40} {pos}/{len} rows, {eta} left");
+            b.set_style(style.unwrap_or_else(|_| ProgressStyle::default_bar()));
+            bar = Some(b);
+        }
+        if let Some(b) = &bar {
+            b.set_position(u64::from(done.done));
+        }
+        ControlFlow::Continue(())
+    });
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    result.map_err(|e| format!("{}: error: {e}", path.display()))?;
+    let bytes = match format {
+        Format::Ppm => image.to_ppm(),
+        Format::Png => image
+            .to_png()
+            .map_err(|e| format!("{}: error: PNG encoding failed: {e}", output.display()))?,
+    };
+    std::fs::write(output, bytes).map_err(|e| format!("{}: error: cannot write: {e}", output.display()))?;
+    if !quiet {
+        eprintln!(
+            "{}: {}x{} in {:.2} s ({}) -> {}",
+            path.display(),
+            size.width,
+            size.height,
+            start.elapsed().as_secs_f64(),
+            S::NAME,
+            output.display()
+        );
+    }
+    Ok(())
 }

@@ -53,9 +53,9 @@ pub struct Palette<'s, S> {
     pub camera: &'s Camera<S>,
 }
 
-impl<S: Scalar> Palette<'_, S> {
+impl<'s, S: Scalar> Palette<'s, S> {
     /// A material by index.
-    pub fn material(&self, id: MaterialId) -> Option<&Material<S>> {
+    pub fn material(&self, id: MaterialId) -> Option<&'s Material<S>> {
         self.materials.get(usize::from(id))
     }
 }
@@ -246,6 +246,28 @@ pub(crate) fn accept<S: Scalar>(ray: &Ray<S>, t: S, normal: Vec3<S>) -> Option<H
         return None;
     }
     Some(Hit { t, point, normal })
+}
+
+/// The nearest hit with `t > 0` among `objects`, skipping index `skip` (the object a ray
+/// leaves from); ties go to the object defined first.
+#[inline]
+pub fn closest_hit<S: Scalar>(
+    objects: &[Object<S>],
+    ray: &Ray<S>,
+    skip: Option<usize>,
+) -> Option<(usize, Hit<S>)> {
+    let mut best: Option<(usize, Hit<S>)> = None;
+    for (index, object) in objects.iter().enumerate() {
+        if Some(index) == skip {
+            continue;
+        }
+        if let Some(hit) = object.hits(ray) {
+            if best.as_ref().is_none_or(|(_, b)| hit.t < b.t) {
+                best = Some((index, hit));
+            }
+        }
+    }
+    best
 }
 
 /// Hit points with `z` above this are in front of the image plane.

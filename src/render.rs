@@ -1,0 +1,180 @@
+//! Rendering into any embedded-graphics [`DrawTarget`], one row at a time.
+//!
+//! Each row is computed into a row buffer (the caller's, or one of the scene's `MAX_WIDTH`
+//! on the stack) and sent with one `fill_contiguous` call for a 1-pixel-high rectangle, top
+//! row first: no framebuffer, RAM of one row. Colours go through [`Rgb888`], so any colour
+//! type with `From<Rgb888>` works (`Rgb565`, `Rgb888`, `Gray8`, ...).
+//!
+//! ```
+//! use embedded_graphics::{mock_display::MockDisplay, pixelcolor::Rgb565, prelude::*};
+//! use microray::{parse::{no_textures, parse_scene}, render::render, Scene};
+//!
+//! let text = b"camera c { pixeldim 8 6 worlddim 8 6 viewpoint 4 3 3 }
+//!              material red { ambient 1 0 0 }
+//!              plane back { material red normal 0 0 1 point 0 0 -5 }";
+//! let scene: Scene<f32, 4, 4, 2, 0, 8> = parse_scene(text, no_textures)?;
+//! let mut display = MockDisplay::<Rgb565>::new();
+//! render(&scene, &mut display).map_err(|_| "display error")?;
+//! assert_eq!(display.get_pixel(Point::new(0, 0)), Some(Rgb565::new(2, 0, 0)));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use crate::camera::Camera;
+use crate::scalar::Scalar;
+use crate::scene::Scene;
+use crate::shade::Shader;
+use crate::vec3::Vec3;
+use core::ops::ControlFlow;
+use embedded_graphics::pixelcolor::Rgb888;
+use embedded_graphics::prelude::{DrawTarget, Point, Size};
+use embedded_graphics::primitives::Rectangle;
+
+/// Why rendering stopped short.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RenderError<E> {
+    /// The draw target failed.
+    Target(E),
+    /// The row buffer is narrower than the area to render.
+    RowBufferTooSmall {
+        /// Pixels in a row of the area.
+        needed: usize,
+        /// Pixels the buffer holds.
+        len: usize,
+    },
+}
+
+impl<E: core::fmt::Debug> core::fmt::Display for RenderError<E> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            RenderError::Target(e) => write!(f, "the display failed: {e:?}"),
+            RenderError::RowBufferTooSmall { needed, len } => {
+                write!(f, "row buffer holds {len} pixels; a row needs {needed}")
+            }
+        }
+    }
+}
+
+/// Whether rendering ran to the end.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Rendered {
+    /// Every row was drawn.
+    Complete,
+    /// The row callback asked to stop after this many rows.
+    Stopped {
+        /// Rows drawn.
+        rows: u16,
+    },
+}
+
+/// Sent to the row callback after each row is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RowDone {
+    /// The image row just drawn (0 is the top).
+    pub row: u16,
+    /// Rows of the area drawn so far.
+    pub done: u16,
+    /// Rows in the area.
+    pub total: u16,
+}
+
+/// Computes pixels of a scene: the camera and the shader, with nothing borrowed mutably.
+#[derive(Clone, Copy, Debug)]
+pub struct Renderer<'s, S: Scalar> {
+    camera: &'s Camera<S>,
+    shader: Shader<'s, S>,
+}
+
+impl<'s, S: Scalar> Renderer<'s, S> {
+    /// A renderer for a scene.
+    pub fn new<
+        const OBJECTS: usize,
+        const MATERIALS: usize,
+        const LIGHTS: usize,
+        const TEXTURES: usize,
+        const MAX_WIDTH: usize,
+    >(
+        scene: &'s Scene<'_, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>,
+    ) -> Self {
+        Self {
+            camera: scene.camera(),
+            shader: Shader::new(scene.objects(), scene.lights(), scene.palette()),
+        }
+    }
+
+    /// The image size in pixels.
+    pub fn size(&self) -> Size {
+        Size::new(u32::from(self.camera.width()), u32::from(self.camera.height()))
+    }
+
+    /// The radiance at pixel `(x, row)`, `row` 0 the top (before conversion to bytes).
+    pub fn radiance(&self, x: u16, row: u16) -> Vec3<S> {
+        let y = self.camera.height().saturating_sub(1).saturating_sub(row);
+        self.camera.primary_ray(x, y).map_or(Vec3::ZERO, |ray| self.shader.primary(&ray))
+    }
+
+    /// The colour at pixel `(x, row)`, `row` 0 the top.
+    pub fn pixel(&self, x: u16, row: u16) -> Rgb888 {
+        let c = self.radiance(x, row);
+        Rgb888::new(c.x.to_byte(), c.y.to_byte(), c.z.to_byte())
+    }
+
+    /// Renders `area` (clipped to the image) into `target` at the same coordinates, one
+    /// `fill_contiguous` call per row, top to bottom, using `row` as the row buffer.
+    /// `on_row` runs after each row; returning `ControlFlow::Break` stops early.
+    pub fn render_area<D>(
+        &self,
+        target: &mut D,
+        area: Rectangle,
+        row: &mut [D::Color],
+        mut on_row: impl FnMut(RowDone) -> ControlFlow<()>,
+    ) -> Result<Rendered, RenderError<D::Error>>
+    where
+        D: DrawTarget,
+        D::Color: From<Rgb888>,
+    {
+        let area = area.intersection(&Rectangle::new(Point::zero(), self.size()));
+        let width = area.size.width as usize;
+        let len = row.len();
+        let row = row.get_mut(..width).ok_or(RenderError::RowBufferTooSmall { needed: width, len })?;
+        // The area lies within the image, whose sides fit u16.
+        let left = u16::try_from(area.top_left.x).unwrap_or(0);
+        let top = u16::try_from(area.top_left.y).unwrap_or(0);
+        let total = u16::try_from(area.size.height).unwrap_or(0);
+        for done in 1..=total {
+            let y = top.saturating_add(done - 1);
+            for (x, slot) in (left..).zip(row.iter_mut()) {
+                *slot = self.pixel(x, y).into();
+            }
+            let line = Rectangle::new(Point::new(area.top_left.x, i32::from(y)), Size::new(area.size.width, 1));
+            target.fill_contiguous(&line, row.iter().copied()).map_err(RenderError::Target)?;
+            if on_row(RowDone { row: y, done, total }).is_break() {
+                return Ok(Rendered::Stopped { rows: done });
+            }
+        }
+        Ok(Rendered::Complete)
+    }
+}
+
+/// Renders the whole image into `target` with a row buffer of the scene's `MAX_WIDTH` pixels
+/// on the stack.
+pub fn render<
+    S: Scalar,
+    D,
+    const OBJECTS: usize,
+    const MATERIALS: usize,
+    const LIGHTS: usize,
+    const TEXTURES: usize,
+    const MAX_WIDTH: usize,
+>(
+    scene: &Scene<'_, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>,
+    target: &mut D,
+) -> Result<Rendered, RenderError<D::Error>>
+where
+    D: DrawTarget,
+    D::Color: From<Rgb888>,
+{
+    let renderer = Renderer::new(scene);
+    let mut row = [D::Color::from(Rgb888::new(0, 0, 0)); MAX_WIDTH];
+    let all = Rectangle::new(Point::zero(), renderer.size());
+    renderer.render_area(target, all, &mut row, |_| ControlFlow::Continue(()))
+}

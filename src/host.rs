@@ -36,7 +36,11 @@ impl Framebuffer {
     /// A black image.
     pub fn new(size: Size) -> Self {
         let bytes = size.width as usize * size.height as usize * 3;
-        Self { width: size.width, height: size.height, rgb: vec![0; bytes] }
+        Self {
+            width: size.width,
+            height: size.height,
+            rgb: vec![0; bytes],
+        }
     }
 
     /// The pixels, three bytes each, rows top first.
@@ -75,9 +79,14 @@ impl DrawTarget for Framebuffer {
     type Color = Rgb888;
     type Error = Infallible;
 
-    fn draw_iter<I: IntoIterator<Item = Pixel<Rgb888>>>(&mut self, pixels: I) -> Result<(), Infallible> {
+    fn draw_iter<I: IntoIterator<Item = Pixel<Rgb888>>>(
+        &mut self,
+        pixels: I,
+    ) -> Result<(), Infallible> {
         for Pixel(point, color) in pixels {
-            let (Ok(x), Ok(y)) = (u32::try_from(point.x), u32::try_from(point.y)) else { continue };
+            let (Ok(x), Ok(y)) = (u32::try_from(point.x), u32::try_from(point.y)) else {
+                continue;
+            };
             if x < self.width && y < self.height {
                 let at = (y as usize * self.width as usize + x as usize) * 3;
                 if let Some(slot) = self.rgb.get_mut(at..at + 3) {
@@ -92,5 +101,9 @@ impl DrawTarget for Framebuffer {
 /// Reads a binary PPM into a framebuffer (for comparing with reference images).
 pub fn read_ppm(bytes: &[u8]) -> Option<Framebuffer> {
     let (width, height, pixels) = crate::texture::decode_ppm(bytes).ok()?;
-    Some(Framebuffer { width: u32::from(width), height: u32::from(height), rgb: pixels.to_vec() })
+    Some(Framebuffer {
+        width: u32::from(width),
+        height: u32::from(height),
+        rgb: pixels.to_vec(),
+    })
 }

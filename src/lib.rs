@@ -28,14 +28,16 @@
 //! ## Features
 //! | feature | default | what it adds |
 //! |---|---|---|
-//! | `std` | yes | the `microray` command-line tracer and file-based texture loading ([`host`]) |
+//! | `std` | yes | the `microray` command-line tracer, file-based texture loading and an RGB framebuffer writing PPM/PNG ([`host`]) |
+//! | `sdl` | no | `examples/simulator.rs` opens an SDL window |
 //!
 //! Without default features the crate is `#![no_std]`, has no `alloc`, and builds for
 //! `thumbv6m-none-eabi`, `thumbv7em-none-eabihf` and `riscv32imc-unknown-none-elf`.
 //!
 //! ## Layout
 //! One concept per module: [`scalar`], [`vec3`], [`ray`], [`camera`], [`material`], [`light`],
-//! [`texture`], [`object`] (one file per kind), [`scene`], [`parse`], [`print`], [`error`].
+//! [`texture`], [`object`] (one file per kind), [`scene`], [`parse`], [`print`], [`shade`]
+//! (the course's illumination), [`render`] (rows into a `DrawTarget`), [`error`].
 #![cfg_attr(not(feature = "std"), no_std)]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
@@ -65,10 +67,10 @@ pub mod object;
 pub mod parse;
 pub mod print;
 pub mod ray;
+pub mod render;
 pub mod scalar;
 pub mod scene;
 pub mod shade;
-pub mod render;
 pub mod texture;
 pub mod vec3;
 

@@ -54,6 +54,9 @@ impl<E: core::fmt::Debug> core::fmt::Display for RenderError<E> {
     }
 }
 
+#[cfg(feature = "std")]
+impl<E: core::fmt::Debug> std::error::Error for RenderError<E> {}
+
 /// Whether rendering ran to the end.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Rendered {
@@ -103,13 +106,18 @@ impl<'s, S: Scalar> Renderer<'s, S> {
 
     /// The image size in pixels.
     pub fn size(&self) -> Size {
-        Size::new(u32::from(self.camera.width()), u32::from(self.camera.height()))
+        Size::new(
+            u32::from(self.camera.width()),
+            u32::from(self.camera.height()),
+        )
     }
 
     /// The radiance at pixel `(x, row)`, `row` 0 the top (before conversion to bytes).
     pub fn radiance(&self, x: u16, row: u16) -> Vec3<S> {
         let y = self.camera.height().saturating_sub(1).saturating_sub(row);
-        self.camera.primary_ray(x, y).map_or(Vec3::ZERO, |ray| self.shader.primary(&ray))
+        self.camera
+            .primary_ray(x, y)
+            .map_or(Vec3::ZERO, |ray| self.shader.primary(&ray))
     }
 
     /// The colour at pixel `(x, row)`, `row` 0 the top.
@@ -135,7 +143,9 @@ impl<'s, S: Scalar> Renderer<'s, S> {
         let area = area.intersection(&Rectangle::new(Point::zero(), self.size()));
         let width = area.size.width as usize;
         let len = row.len();
-        let row = row.get_mut(..width).ok_or(RenderError::RowBufferTooSmall { needed: width, len })?;
+        let row = row
+            .get_mut(..width)
+            .ok_or(RenderError::RowBufferTooSmall { needed: width, len })?;
         // The area lies within the image, whose sides fit u16.
         let left = u16::try_from(area.top_left.x).unwrap_or(0);
         let top = u16::try_from(area.top_left.y).unwrap_or(0);
@@ -145,9 +155,20 @@ impl<'s, S: Scalar> Renderer<'s, S> {
             for (x, slot) in (left..).zip(row.iter_mut()) {
                 *slot = self.pixel(x, y).into();
             }
-            let line = Rectangle::new(Point::new(area.top_left.x, i32::from(y)), Size::new(area.size.width, 1));
-            target.fill_contiguous(&line, row.iter().copied()).map_err(RenderError::Target)?;
-            if on_row(RowDone { row: y, done, total }).is_break() {
+            let line = Rectangle::new(
+                Point::new(area.top_left.x, i32::from(y)),
+                Size::new(area.size.width, 1),
+            );
+            target
+                .fill_contiguous(&line, row.iter().copied())
+                .map_err(RenderError::Target)?;
+            if on_row(RowDone {
+                row: y,
+                done,
+                total,
+            })
+            .is_break()
+            {
                 return Ok(Rendered::Stopped { rows: done });
             }
         }

@@ -48,7 +48,7 @@ pub trait Scalar:
     fn sqrt(self) -> Self;
     /// `self` to the power `exponent`, for glints; defined as 0 when `self <= 0` (where the
     /// course took `pow` of a negative dot product).
-    fn powf(self, exponent: Self) -> Self;
+    fn pow_positive(self, exponent: Self) -> Self;
     /// The channel byte of a colour value: `self * 255` computed exactly (in `f64` for the
     /// float types), clamped to 0..=255 and truncated, as the course's images need.
     #[inline]
@@ -109,8 +109,12 @@ impl Scalar for f64 {
         if self > 0.0 { libm::sqrt(self) } else { 0.0 }
     }
     #[inline]
-    fn powf(self, exponent: Self) -> Self {
-        if self > 0.0 { libm::pow(self, exponent) } else { 0.0 }
+    fn pow_positive(self, exponent: Self) -> Self {
+        if self > 0.0 {
+            libm::pow(self, exponent)
+        } else {
+            0.0
+        }
     }
     #[inline]
     fn floor_to_i64(self) -> i64 {
@@ -141,8 +145,12 @@ impl Scalar for f32 {
         if self > 0.0 { libm::sqrtf(self) } else { 0.0 }
     }
     #[inline]
-    fn powf(self, exponent: Self) -> Self {
-        if self > 0.0 { libm::powf(self, exponent) } else { 0.0 }
+    fn pow_positive(self, exponent: Self) -> Self {
+        if self > 0.0 {
+            libm::powf(self, exponent)
+        } else {
+            0.0
+        }
     }
     #[inline]
     fn floor_to_i64(self) -> i64 {
@@ -262,9 +270,9 @@ mod tests {
 
     #[test]
     fn power_of_non_positive_is_zero() {
-        assert_eq!((-0.5f64).powf(2.0), 0.0);
-        assert_eq!(0.0f32.powf(50.0), 0.0);
-        assert_eq!(0.5f64.powf(2.0), 0.25);
+        assert_eq!(Scalar::pow_positive(-0.5f64, 2.0), 0.0);
+        assert_eq!(Scalar::pow_positive(0.0f32, 50.0), 0.0);
+        assert_eq!(Scalar::pow_positive(0.5f64, 2.0), 0.25);
     }
 
     #[test]

@@ -68,7 +68,11 @@ impl<S: Scalar> Vec3<S> {
     #[inline]
     pub fn unit(self) -> Option<Self> {
         let length = self.length();
-        if length > S::ZERO { Some(self / length) } else { None }
+        if length > S::ZERO {
+            Some(self / length)
+        } else {
+            None
+        }
     }
 
     /// The largest component.

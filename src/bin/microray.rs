@@ -13,7 +13,11 @@ use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 #[derive(Parser)]
-#[command(name = "microray", version, about = "A no_std ray tracer for microcontroller displays: the std front end")]
+#[command(
+    name = "microray",
+    version,
+    about = "A no_std ray tracer for microcontroller displays: the std front end"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -59,11 +63,17 @@ fn main() -> ExitCode {
         Command::Check { scene } => check(scene),
         Command::Print { scene } => load::<f64>(scene).and_then(|s| {
             let mut text = String::new();
-            print_scene(&s, &mut text).map_err(|_| format!("{}: error: printing failed", scene.display()))?;
+            print_scene(&s, &mut text)
+                .map_err(|_| format!("{}: error: printing failed", scene.display()))?;
             print!("{text}");
             Ok(())
         }),
-        Command::Render { scene, output, number, quiet } => match number {
+        Command::Render {
+            scene,
+            output,
+            number,
+            quiet,
+        } => match number {
             Number::F64 => render::<f64>(scene, output, *quiet),
             Number::F32 => render::<f32>(scene, output, *quiet),
         },
@@ -101,10 +111,17 @@ fn count(n: usize, noun: &str) -> String {
 
 /// Reads and parses a scene; the error is the full `FILE:LINE:COL: error: ...` line.
 fn load<S: Scalar>(path: &Path) -> Result<HostScene<'static, S>, String> {
-    let text = std::fs::read(path).map_err(|e| format!("{}: error: cannot read: {e}", path.display()))?;
+    let text =
+        std::fs::read(path).map_err(|e| format!("{}: error: cannot read: {e}", path.display()))?;
     let dir = path.parent().unwrap_or(Path::new("."));
     parse_scene(&text, texture_files(dir)).map_err(|e| match e.position {
-        Some(p) => format!("{}:{}:{}: error: {}", path.display(), p.line, p.column, e.kind),
+        Some(p) => format!(
+            "{}:{}:{}: error: {}",
+            path.display(),
+            p.line,
+            p.column,
+            e.kind
+        ),
         None => format!("{}: error: {}", path.display(), e.kind),
     })
 }
@@ -115,11 +132,19 @@ enum Format {
 }
 
 fn render<S: Scalar>(path: &Path, output: &Path, quiet: bool) -> Result<(), String> {
-    let extension = output.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let extension = output
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
     let format = match extension.as_deref() {
         Some("ppm") => Format::Ppm,
         Some("png") => Format::Png,
-        _ => return Err(format!("{}: error: unknown image format (use .ppm or .png)", output.display())),
+        _ => {
+            return Err(format!(
+                "{}: error: unknown image format (use .ppm or .png)",
+                output.display()
+            ));
+        }
     };
     let scene = load::<S>(path)?;
     let renderer = Renderer::new(&scene);
@@ -132,7 +157,10 @@ fn render<S: Scalar>(path: &Path, output: &Path, quiet: bool) -> Result<(), Stri
     let result = renderer.render_area(&mut image, area, &mut row, |done| {
         // Only renders that take more than a moment get a bar.
         if !quiet && bar.is_none() && start.elapsed() > Duration::from_millis(300) {
-            let b = ProgressBar::with_draw_target(Some(u64::from(done.total)), ProgressDrawTarget::stderr());
+            let b = ProgressBar::with_draw_target(
+                Some(u64::from(done.total)),
+                ProgressDrawTarget::stderr(),
+            );
             let style = ProgressStyle::with_template("{bar:40} {pos}/{len} rows, {eta} left");
             b.set_style(style.unwrap_or_else(|_| ProgressStyle::default_bar()));
             bar = Some(b);
@@ -152,7 +180,8 @@ fn render<S: Scalar>(path: &Path, output: &Path, quiet: bool) -> Result<(), Stri
             .to_png()
             .map_err(|e| format!("{}: error: PNG encoding failed: {e}", output.display()))?,
     };
-    std::fs::write(output, bytes).map_err(|e| format!("{}: error: cannot write: {e}", output.display()))?;
+    std::fs::write(output, bytes)
+        .map_err(|e| format!("{}: error: cannot write: {e}", output.display()))?;
     if !quiet {
         eprintln!(
             "{}: {}x{} in {:.2} s ({}) -> {}",

@@ -36,7 +36,7 @@
 //!
 //! ## Layout
 //! One concept per module: [`scalar`], [`vec3`], [`ray`], [`camera`], [`material`], [`light`],
-//! [`texture`], [`object`] (one file per kind), [`scene`], [`parse`], [`print`], [`shade`]
+//! [`texture`], [`object`] (one file per kind), [`scene`], [`parse`], [`print`](mod@print), [`shade`]
 //! (the course's illumination), [`render`] (rows into a `DrawTarget`), [`error`].
 #![cfg_attr(not(feature = "std"), no_std)]
 #![forbid(unsafe_code)]

@@ -80,11 +80,49 @@ pub struct RowDone {
     pub total: u16,
 }
 
+/// What a pixel shows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Shading {
+    /// The course's shading.
+    #[default]
+    Color,
+    /// A distinct colour per object (black where nothing is hit): shows which object each
+    /// pixel sees, for comparing number types and for debugging scenes.
+    Ids,
+}
+
+/// The colour of object `index` in the object-id view: 16 distinct colours, repeating.
+pub fn id_color(index: Option<usize>) -> Rgb888 {
+    const COLORS: [(u8, u8, u8); 16] = [
+        (230, 25, 75),
+        (60, 180, 75),
+        (255, 225, 25),
+        (0, 130, 200),
+        (245, 130, 48),
+        (145, 30, 180),
+        (70, 240, 240),
+        (240, 50, 230),
+        (210, 245, 60),
+        (250, 190, 212),
+        (0, 128, 128),
+        (220, 190, 255),
+        (170, 110, 40),
+        (255, 250, 200),
+        (128, 0, 0),
+        (170, 255, 195),
+    ];
+    match index.and_then(|i| COLORS.get(i % COLORS.len())) {
+        Some(&(r, g, b)) => Rgb888::new(r, g, b),
+        None => Rgb888::new(0, 0, 0),
+    }
+}
+
 /// Computes pixels of a scene: the camera and the shader, with nothing borrowed mutably.
 #[derive(Clone, Copy, Debug)]
 pub struct Renderer<'s, S: Scalar> {
     camera: &'s Camera<S>,
     shader: Shader<'s, S>,
+    shading: Shading,
 }
 
 impl<'s, S: Scalar> Renderer<'s, S> {
@@ -101,7 +139,13 @@ impl<'s, S: Scalar> Renderer<'s, S> {
         Self {
             camera: scene.camera(),
             shader: Shader::new(scene.objects(), scene.lights(), scene.palette()),
+            shading: Shading::Color,
         }
+    }
+
+    /// The same renderer showing `shading`.
+    pub fn with_shading(self, shading: Shading) -> Self {
+        Self { shading, ..self }
     }
 
     /// The image size in pixels.
@@ -120,10 +164,24 @@ impl<'s, S: Scalar> Renderer<'s, S> {
             .map_or(Vec3::ZERO, |ray| self.shader.primary(&ray))
     }
 
+    /// The index of the object seen at pixel `(x, row)`, if any: the object-id view used to
+    /// check that a number type makes no object appear or vanish.
+    pub fn object_at(&self, x: u16, row: u16) -> Option<usize> {
+        let y = self.camera.height().saturating_sub(1).saturating_sub(row);
+        self.camera
+            .primary_ray(x, y)
+            .and_then(|ray| self.shader.first_object(&ray))
+    }
+
     /// The colour at pixel `(x, row)`, `row` 0 the top.
     pub fn pixel(&self, x: u16, row: u16) -> Rgb888 {
-        let c = self.radiance(x, row);
-        Rgb888::new(c.x.to_byte(), c.y.to_byte(), c.z.to_byte())
+        match self.shading {
+            Shading::Color => {
+                let c = self.radiance(x, row);
+                Rgb888::new(c.x.to_byte(), c.y.to_byte(), c.z.to_byte())
+            }
+            Shading::Ids => id_color(self.object_at(x, row)),
+        }
     }
 
     /// Renders `area` (clipped to the image) into `target` at the same coordinates, one

@@ -8,7 +8,7 @@ use crate::camera::{Camera, CameraDef};
 use crate::error::{Collection, Entity, Error, ErrorKind, Snippet};
 use crate::light::{Light, LightDef};
 use crate::material::{Material, MaterialDef, MaterialId};
-use crate::object::{Hit, Object, ObjectDef, Palette, closest_hit};
+use crate::object::{Hit, Object, ObjectDef, Palette, Z_LIMIT, closest_hit};
 use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::texture::{Texture, TextureDef};
@@ -36,6 +36,7 @@ pub struct Scene<
     lights: Vec<Light<S>, LIGHTS>,
     textures: Vec<Texture<'t>, TEXTURES>,
     objects: Vec<Object<S>, OBJECTS>,
+    scale: f64,
 }
 
 /// Collects a scene's parts, checking each as it comes; [`build`](Self::build) needs a camera.
@@ -176,6 +177,7 @@ impl<
             lights: self.lights,
             textures: self.textures,
             objects: self.objects,
+            scale: 1.0,
         })
     }
 
@@ -267,13 +269,25 @@ impl<
             materials: &self.materials,
             textures: &self.textures,
             camera: &self.camera,
+            scale: self.scale,
         }
+    }
+
+    /// The factor the scene's lengths were multiplied by at load: a power of two, 1 unless
+    /// the scene was larger than the number type's [`Scalar::MAX_EXTENT`].
+    pub fn scale(&self) -> f64 {
+        self.scale
+    }
+
+    /// Hit points with `z` above this are in front of the image plane (0.01, scaled).
+    pub fn z_limit(&self) -> S {
+        S::from_f64(Z_LIMIT * self.scale)
     }
 
     /// The nearest hit with `t > 0` over all objects, skipping object `skip` (the one the
     /// ray leaves from); ties go to the object defined first.
     pub fn closest_hit(&self, ray: &Ray<S>, skip: Option<usize>) -> Option<(usize, Hit<S>)> {
-        closest_hit(&self.objects, ray, skip)
+        closest_hit(&self.objects, ray, skip, self.z_limit())
     }
 }
 
@@ -345,6 +359,36 @@ mod tests {
         assert_eq!(scene.closest_hit(&ray, Some(0)).unwrap().0, 2);
         let away = Ray::new(Vec3::new(0.0, 0.0, -1.0), Vec3::new(0.0, 0.0, 1.0));
         assert_eq!(scene.closest_hit(&away, None), None);
+    }
+
+    #[test]
+    fn z_rule_applies_to_every_kind() {
+        let scene: Scene<'_, f64> = Scene::from_defs(
+            &CAMERA,
+            &[MaterialDef::new("m")],
+            &[],
+            &[],
+            &[
+                // A wall facing the camera in front of the image plane, and one at z = 0.01.
+                ObjectDef::plane("front", "m", [0.0, 0.0, 1.0], [0.0, 0.0, 1.0]),
+                ObjectDef::plane("edge", "m", [0.0, 0.0, 1.0], [9.0, 0.0, 0.01]),
+                // A sphere poking through the image plane: its near side is at z = 1.
+                ObjectDef::sphere("ball", "m", [20.0, 0.0, -1.0], 2.0),
+            ],
+        )
+        .unwrap();
+        let down = |x: f64| Ray::new(Vec3::new(x, 0.0, 5.0), Vec3::new(0.0, 0.0, -1.0));
+        // Through the front wall (z = 1, not a hit) to the edge wall (z = 0.01 exactly counts).
+        assert_eq!(
+            scene.closest_hit(&down(0.0), None).map(|(i, h)| (i, h.t)),
+            Some((1, 4.99))
+        );
+        // The sphere's near root is in front of the image plane; its far root is not tried.
+        assert_eq!(
+            scene.closest_hit(&down(20.0), None).map(|(i, _)| i),
+            Some(1)
+        );
+        assert!(scene.objects()[2].hits(&down(20.0)).is_some());
     }
 
     #[test]

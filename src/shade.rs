@@ -20,7 +20,7 @@
 
 use crate::light::Light;
 use crate::material::Material;
-use crate::object::{Hit, Object, Palette, closest_hit};
+use crate::object::{Hit, Object, Palette, Z_LIMIT, closest_hit};
 use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;
@@ -40,6 +40,7 @@ pub struct Shader<'s, S: Scalar> {
     lights: &'s [Light<S>],
     palette: Palette<'s, S>,
     max_distance: S,
+    z_limit: S,
 }
 
 impl<'s, S: Scalar> Shader<'s, S> {
@@ -49,7 +50,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
             objects,
             lights,
             palette,
-            max_distance: S::from_f64(MAX_DISTANCE),
+            max_distance: S::from_f64(MAX_DISTANCE * palette.scale),
+            z_limit: S::from_f64(Z_LIMIT * palette.scale),
         }
     }
 
@@ -58,13 +60,18 @@ impl<'s, S: Scalar> Shader<'s, S> {
         self.trace(ray, S::ZERO, None, 0)
     }
 
+    /// The index of the object a primary ray sees first, if any (the object-id view).
+    pub fn first_object(&self, ray: &Ray<S>) -> Option<usize> {
+        closest_hit(self.objects, ray, None, self.z_limit).map(|(index, _)| index)
+    }
+
     /// The course's `trace`: `total` is the distance travelled so far, `left_from` the object
     /// the ray leaves.
     pub fn trace(&self, ray: &Ray<S>, total: S, left_from: Option<usize>, depth: u8) -> Vec3<S> {
         if total > self.max_distance || depth > MAX_DEPTH {
             return Vec3::ZERO;
         }
-        let Some((index, hit)) = closest_hit(self.objects, ray, left_from) else {
+        let Some((index, hit)) = closest_hit(self.objects, ray, left_from, self.z_limit) else {
             return Vec3::ZERO;
         };
         let Some(object) = self.objects.get(index) else {
@@ -168,7 +175,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
         // that would make the walk revisit objects forever.
         for _ in 0..=self.objects.len().saturating_mul(2) {
             let ray = Ray::new(base, l);
-            let Some((index, hit)) = closest_hit(self.objects, &ray, Some(skip)) else {
+            let Some((index, hit)) = closest_hit(self.objects, &ray, Some(skip), self.z_limit)
+            else {
                 return Some(filter);
             };
             if !(hit.t < remaining) {

@@ -35,10 +35,10 @@ impl<S: Scalar> Vec3<S> {
         Vec3::new(self.x.to_f64(), self.y.to_f64(), self.z.to_f64())
     }
 
-    /// The dot product.
+    /// The dot product (see [`Scalar::dot`]).
     #[inline]
     pub fn dot(self, other: Self) -> S {
-        self.x * other.x + self.y * other.y + self.z * other.z
+        S::dot(self, other)
     }
 
     /// The cross product.
@@ -57,10 +57,10 @@ impl<S: Scalar> Vec3<S> {
         Self::new(self.x * other.x, self.y * other.y, self.z * other.z)
     }
 
-    /// The length.
+    /// The length (see [`Scalar::length`]).
     #[inline]
     pub fn length(self) -> S {
-        self.dot(self).sqrt()
+        S::length(self)
     }
 
     /// The vector divided by its length, or `None` for the zero vector (where the course
@@ -145,7 +145,7 @@ impl<S: Scalar> Div<S> for Vec3<S> {
     type Output = Self;
     #[inline]
     fn div(self, k: S) -> Self {
-        Self::new(self.x / k, self.y / k, self.z / k)
+        S::div_vec(self, k)
     }
 }
 

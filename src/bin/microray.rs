@@ -6,7 +6,8 @@ use microray::Scalar;
 use microray::host::{Framebuffer, HostScene, texture_files};
 use microray::parse::parse_scene;
 use microray::print::print_scene;
-use microray::render::Renderer;
+use microray::render::{Renderer, Shading};
+use microray::scalar::I16F16;
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -45,6 +46,9 @@ enum Command {
         /// The number type to compute in.
         #[arg(long, value_enum, default_value_t = Number::F64)]
         number: Number,
+        /// What pixels show: the course's shading, or a colour per object.
+        #[arg(long, value_enum, default_value_t = ShadeMode::Color)]
+        shade: ShadeMode,
         /// No progress bar and no summary line.
         #[arg(short, long)]
         quiet: bool,
@@ -52,9 +56,16 @@ enum Command {
 }
 
 #[derive(Clone, Copy, ValueEnum)]
+enum ShadeMode {
+    Color,
+    Ids,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
 enum Number {
     F64,
     F32,
+    I16f16,
 }
 
 fn main() -> ExitCode {
@@ -72,11 +83,19 @@ fn main() -> ExitCode {
             scene,
             output,
             number,
+            shade,
             quiet,
-        } => match number {
-            Number::F64 => render::<f64>(scene, output, *quiet),
-            Number::F32 => render::<f32>(scene, output, *quiet),
-        },
+        } => {
+            let shading = match shade {
+                ShadeMode::Color => Shading::Color,
+                ShadeMode::Ids => Shading::Ids,
+            };
+            match number {
+                Number::F64 => render::<f64>(scene, output, shading, *quiet),
+                Number::F32 => render::<f32>(scene, output, shading, *quiet),
+                Number::I16f16 => render::<I16F16>(scene, output, shading, *quiet),
+            }
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -131,7 +150,12 @@ enum Format {
     Png,
 }
 
-fn render<S: Scalar>(path: &Path, output: &Path, quiet: bool) -> Result<(), String> {
+fn render<S: Scalar>(
+    path: &Path,
+    output: &Path,
+    shading: Shading,
+    quiet: bool,
+) -> Result<(), String> {
     let extension = output
         .extension()
         .and_then(|e| e.to_str())
@@ -147,7 +171,7 @@ fn render<S: Scalar>(path: &Path, output: &Path, quiet: bool) -> Result<(), Stri
         }
     };
     let scene = load::<S>(path)?;
-    let renderer = Renderer::new(&scene);
+    let renderer = Renderer::new(&scene).with_shading(shading);
     let size = renderer.size();
     let mut image = Framebuffer::new(size);
     let mut row = vec![Default::default(); size.width as usize];

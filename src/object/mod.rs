@@ -51,6 +51,9 @@ pub struct Palette<'s, S> {
     pub textures: &'s [Texture<'s>],
     /// The camera (textures in [`TextureMode::Tile`] are laid out in its pixel units).
     pub camera: &'s Camera<S>,
+    /// The factor the scene's lengths were multiplied by at load (a power of two; 1 unless
+    /// the scene was too large for the number type).
+    pub scale: f64,
 }
 
 impl<'s, S: Scalar> Palette<'s, S> {
@@ -68,7 +71,8 @@ pub type ColorLookup<S> = fn(&Object<S>, &Palette<'_, S>, &Hit<S>) -> Vec3<S>;
 pub struct ObjectVTable<S: Scalar> {
     /// The kind, for the printer's keyword.
     pub kind: Entity,
-    /// The nearest hit of a ray with `t > 0` and the z rule applied.
+    /// The nearest hit of a ray with `t > 0` (the scene's closest-hit search applies the z
+    /// rule, which depends on the scene's scale).
     pub hits: fn(&Object<S>, &Ray<S>) -> Option<Hit<S>>,
     /// Writes the object's block in scene text.
     pub printer: fn(&Object<S>, &Palette<'_, S>, &mut dyn fmt::Write) -> fmt::Result,
@@ -133,7 +137,7 @@ impl<S: Scalar> Object<S> {
         })
     }
 
-    /// The nearest hit along `ray` (`t > 0`, hit point not in front of the image plane).
+    /// The nearest hit along `ray` with `t > 0`.
     #[inline]
     pub fn hits(&self, ray: &Ray<S>) -> Option<Hit<S>> {
         (self.vtable.hits)(self, ray)
@@ -234,27 +238,26 @@ pub fn object_specular<S: Scalar>(obj: &Object<S>, palette: &Palette<'_, S>, hit
         .map_or(S::ZERO, |m| m.specular)
 }
 
-/// A hit at `t` if it counts: `t > 0` and the z rule (a point with `z > 0.01` is in front of
-/// the image plane, between screen and viewer, and is not a hit).
+/// A hit at `t` if it is ahead of the ray (`t > 0`).
 #[inline]
-pub(crate) fn accept<S: Scalar>(ray: &Ray<S>, t: S, normal: Vec3<S>) -> Option<Hit<S>> {
-    if !(t > S::ZERO) {
-        return None;
-    }
-    let point = ray.at(t);
-    if point.z > S::from_f64(Z_LIMIT) {
-        return None;
-    }
-    Some(Hit { t, point, normal })
+pub(crate) fn ahead<S: Scalar>(ray: &Ray<S>, t: S, normal: Vec3<S>) -> Option<Hit<S>> {
+    (t > S::ZERO).then(|| Hit {
+        t,
+        point: ray.at(t),
+        normal,
+    })
 }
 
 /// The nearest hit with `t > 0` among `objects`, skipping index `skip` (the object a ray
-/// leaves from); ties go to the object defined first.
+/// leaves from), with the z rule: a hit point with `z > z_limit` is in front of the image
+/// plane, between screen and viewer, and does not count. Ties go to the object defined
+/// first.
 #[inline]
 pub fn closest_hit<S: Scalar>(
     objects: &[Object<S>],
     ray: &Ray<S>,
     skip: Option<usize>,
+    z_limit: S,
 ) -> Option<(usize, Hit<S>)> {
     let mut best: Option<(usize, Hit<S>)> = None;
     for (index, object) in objects.iter().enumerate() {
@@ -262,7 +265,7 @@ pub fn closest_hit<S: Scalar>(
             continue;
         }
         if let Some(hit) = object.hits(ray) {
-            if best.as_ref().is_none_or(|(_, b)| hit.t < b.t) {
+            if hit.point.z <= z_limit && best.as_ref().is_none_or(|(_, b)| hit.t < b.t) {
                 best = Some((index, hit));
             }
         }
@@ -270,7 +273,8 @@ pub fn closest_hit<S: Scalar>(
     best
 }
 
-/// Hit points with `z` above this are in front of the image plane.
+/// Hit points with `z` above this are in front of the image plane (in scene units, before
+/// any scaling of the scene).
 pub const Z_LIMIT: f64 = 0.01;
 
 /// An object as written: name, material and kind-specific data, all plain `f64`.

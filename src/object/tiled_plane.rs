@@ -23,6 +23,27 @@ pub struct TiledPlane<S> {
     pub rect: Rect<S>,
     /// The material of tiles where `ix + iy` is even.
     pub altmaterial: MaterialId,
+    /// `100000 / dimensions`, split into its integer part's parity and its fraction, so that
+    /// no type has to hold 100000 (Q16.16 cannot).
+    pub offset: [(bool, S); 2],
+}
+
+impl<S: Scalar> TiledPlane<S> {
+    fn build(def: &RectDef, altmaterial: MaterialId) -> Result<Self, ErrorKind> {
+        let rect = Rect::build(def)?;
+        // From the stored (scaled) sizes; the offset scales with them, so the ratio does not.
+        let split = |size: S| {
+            let tiles = TILE_OFFSET / size.to_f64();
+            let whole = libm::floor(tiles);
+            (libm::fmod(whole, 2.0) != 0.0, S::from_f64(tiles - whole))
+        };
+        let offset = [split(rect.dimensions[0]), split(rect.dimensions[1])];
+        Ok(Self {
+            rect,
+            altmaterial,
+            offset,
+        })
+    }
 }
 
 impl<S: Scalar> TiledPlane<S> {
@@ -31,11 +52,14 @@ impl<S: Scalar> TiledPlane<S> {
     /// even `ix + iy` is the alternate material.
     #[inline]
     pub fn is_alternate(&self, hit: &Hit<S>) -> bool {
-        let offset = S::from_f64(TILE_OFFSET);
+        // floor((q + 100000) / w) = K + floor(q / w + f) where 100000 / w = K + f: only the
+        // parity of K is kept.
         let [w, h] = self.rect.dimensions;
-        let ix = ((self.rect.u.dot(hit.point) + offset) / w).floor_to_i64();
-        let iy = ((self.rect.v.dot(hit.point) + offset) / h).floor_to_i64();
-        (ix.wrapping_add(iy)) & 1 == 0
+        let [(odd_x, fx), (odd_y, fy)] = self.offset;
+        let ix = (self.rect.u.dot(hit.point) / w + fx).floor_to_i64();
+        let iy = (self.rect.v.dot(hit.point) / h + fy).floor_to_i64();
+        let parity = (ix.wrapping_add(iy) & 1 == 1) ^ odd_x ^ odd_y;
+        !parity
     }
 
     /// The tiled plane kind's function table: the plane's `hits`, and a material look-up
@@ -58,10 +82,7 @@ pub fn tiled_plane_init<S: Scalar>(
     def: &RectDef,
     altmaterial: MaterialId,
 ) -> Result<Object<S>, ErrorKind> {
-    let tiled = TiledPlane {
-        rect: Rect::build(def)?,
-        altmaterial,
-    };
+    let tiled = TiledPlane::build(def, altmaterial)?;
     Object::init(
         &TiledPlane::VTABLE,
         name,
@@ -122,6 +143,7 @@ mod tests {
             materials: &mats,
             textures: &[],
             camera: &cam,
+            scale: 1.0,
         };
         // u = (1,0,0), v = n x u = (0,0,-1): q = (x, -z).
         let at = |x: f64, z: f64| {

@@ -9,6 +9,16 @@
 //! |---|---|---|
 //! | `f64` | ±1.8e308 | correctly rounded, 2^-53 relative |
 //! | `f32` | ±3.4e38 | correctly rounded, 2^-24 relative |
+//! | [`I16F16`] | ±32768 | 2^-16 absolute (truncating multiply and divide), see [`fixed`] |
+//!
+//! The vector operations ([`Scalar::dot`], [`Scalar::length`], [`Scalar::div_vec`]) are trait
+//! methods so that a type can do them better than component by component: the fixed-point
+//! type sums products in 64 bits before one shift (no intermediate overflow, one rounding).
+//! The float types keep the plain left-to-right order the course's images need.
+
+pub mod fixed;
+
+pub use fixed::I16F16;
 
 use crate::error::{Attr, ErrorKind};
 use crate::vec3::Vec3;
@@ -39,6 +49,12 @@ pub trait Scalar:
     const ONE: Self;
     /// Two.
     const TWO: Self;
+    /// Scenes whose coordinates exceed this are scaled down at load (by a power of two, so
+    /// that the image is unchanged in exact arithmetic).
+    const MAX_EXTENT: f64;
+    /// The smallest length (radius, rectangle side, world window) the type resolves well;
+    /// a scene with a smaller one, after scaling, is rejected for this type.
+    const MIN_FEATURE: f64;
 
     /// The nearest value of this type (saturating where the type's range ends).
     fn from_f64(value: f64) -> Self;
@@ -73,6 +89,22 @@ pub trait Scalar:
     /// Writes the shortest decimal text that reads back as exactly this value.
     fn write_shortest(self, out: &mut dyn fmt::Write) -> fmt::Result;
 
+    /// The dot product of two vectors.
+    #[inline]
+    fn dot(a: Vec3<Self>, b: Vec3<Self>) -> Self {
+        a.x * b.x + a.y * b.y + a.z * b.z
+    }
+    /// The length of a vector.
+    #[inline]
+    fn length(v: Vec3<Self>) -> Self {
+        Self::dot(v, v).sqrt()
+    }
+    /// Each component divided by `d`.
+    #[inline]
+    fn div_vec(v: Vec3<Self>, d: Self) -> Vec3<Self> {
+        Vec3::new(v.x / d, v.y / d, v.z / d)
+    }
+
     /// The absolute value.
     #[inline]
     fn abs(self) -> Self {
@@ -95,6 +127,9 @@ impl Scalar for f64 {
     const ZERO: Self = 0.0;
     const ONE: Self = 1.0;
     const TWO: Self = 2.0;
+    // Squares of coordinates stay finite below 2^500.
+    const MAX_EXTENT: f64 = 3.273390607896142e150;
+    const MIN_FEATURE: f64 = 0.0;
 
     #[inline]
     fn from_f64(value: f64) -> Self {
@@ -131,6 +166,9 @@ impl Scalar for f32 {
     const ZERO: Self = 0.0;
     const ONE: Self = 1.0;
     const TWO: Self = 2.0;
+    // Squares of coordinates stay finite below 2^60.
+    const MAX_EXTENT: f64 = 1.152921504606847e18;
+    const MIN_FEATURE: f64 = 0.0;
 
     #[inline]
     fn from_f64(value: f64) -> Self {
@@ -200,7 +238,7 @@ impl fmt::Write for Counter {
 ///
 /// `core` formats both `{}` and `{:e}` with the shortest round-trip digits; the plain form is
 /// chosen unless the exponent form is shorter (`1e-7` rather than `0.0000001`).
-fn write_shortest_float<T: fmt::Display + fmt::LowerExp>(
+pub(crate) fn write_shortest_float<T: fmt::Display + fmt::LowerExp>(
     value: T,
     out: &mut dyn fmt::Write,
 ) -> fmt::Result {

@@ -26,22 +26,27 @@ pub struct TiledPlane<S> {
     /// `100000 / dimensions`, split into its integer part's parity and its fraction, so that
     /// no type has to hold 100000 (Q16.16 cannot).
     pub offset: [(bool, S); 2],
+    /// The tile size as written. The offset amplifies any rounding of the size 100000 times
+    /// (Q16.16's rounding of 1.6 would shift the board by a quarter tile), so it is computed
+    /// from this, and the printer writes this.
+    pub written_dimensions: [f64; 2],
 }
 
 impl<S: Scalar> TiledPlane<S> {
     fn build(def: &RectDef, altmaterial: MaterialId) -> Result<Self, ErrorKind> {
         let rect = Rect::build(def)?;
-        // From the stored (scaled) sizes; the offset scales with them, so the ratio does not.
-        let split = |size: S| {
-            let tiles = TILE_OFFSET / size.to_f64();
+        // The offset scales with the sizes, so their ratio is the same in a scaled scene.
+        let split = |size: f64| {
+            let tiles = TILE_OFFSET / size;
             let whole = libm::floor(tiles);
             (libm::fmod(whole, 2.0) != 0.0, S::from_f64(tiles - whole))
         };
-        let offset = [split(rect.dimensions[0]), split(rect.dimensions[1])];
+        let offset = [split(def.dimensions[0]), split(def.dimensions[1])];
         Ok(Self {
             rect,
             altmaterial,
             offset,
+            written_dimensions: def.dimensions,
         })
     }
 }
@@ -115,7 +120,9 @@ pub fn tiled_plane_print<S: Scalar>(
 ) -> fmt::Result {
     object_print(obj, palette, out)?;
     if let Shape::TiledPlane(tiled) = obj.shape() {
-        tiled.rect.print_attributes(out)?;
+        tiled.rect.plane.print_attributes(out)?;
+        print::vector(out, Attr::Xdir, tiled.rect.xdir)?;
+        print::numbers(out, Attr::Dimensions, &tiled.written_dimensions)?;
         print::material_ref(out, Attr::Altmaterial, palette, tiled.altmaterial)?;
     }
     print::footer(out)

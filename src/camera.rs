@@ -4,7 +4,7 @@ use crate::error::{Attr, ErrorKind};
 use crate::name::{Name, bounded};
 use crate::print;
 use crate::ray::Ray;
-use crate::scalar::{Scalar, load2, load3};
+use crate::scalar::{Scalar, load_length, load_position};
 use crate::vec3::Vec3;
 use core::fmt;
 
@@ -50,7 +50,11 @@ pub struct Camera<S> {
 
 impl<S: Scalar> Camera<S> {
     /// Checks a definition; `max_width` is the widest row the build renders.
-    pub(crate) fn build(def: &CameraDef<'_>, max_width: usize) -> Result<Self, ErrorKind> {
+    pub(crate) fn build(
+        def: &CameraDef<'_>,
+        max_width: usize,
+        scale: f64,
+    ) -> Result<Self, ErrorKind> {
         let [width, height] = def.pixeldim;
         if width < 2 || height < 2 {
             return Err(ErrorKind::PixeldimTooSmall);
@@ -66,13 +70,11 @@ impl<S: Scalar> Camera<S> {
             width,
             max: u32::from(u16::MAX),
         })?;
-        let world = load2::<S>(def.worlddim, Attr::Worlddim)?;
-        let viewpoint = load3(def.viewpoint, Attr::Viewpoint)?;
-        if def.worlddim.iter().any(|&w| w <= 0.0) || world.iter().any(|&w| w <= S::ZERO) {
-            return Err(ErrorKind::NotPositive {
-                attr: Attr::Worlddim,
-            });
-        }
+        let world = [
+            load_length::<S>(def.worlddim[0], scale, Attr::Worlddim)?,
+            load_length::<S>(def.worlddim[1], scale, Attr::Worlddim)?,
+        ];
+        let viewpoint = load_position(def.viewpoint, scale, Attr::Viewpoint)?;
         Ok(Self {
             name: bounded(def.name)?,
             width,
@@ -121,11 +123,11 @@ impl<S: Scalar> Camera<S> {
     }
 
     /// Writes the camera block.
-    pub fn print(&self, out: &mut dyn fmt::Write) -> fmt::Result {
+    pub fn print(&self, out: &mut dyn fmt::Write, scale: f64) -> fmt::Result {
         print::header(out, "camera", &self.name)?;
         writeln!(out, "  {} {} {}", Attr::Pixeldim, self.width, self.height)?;
-        print::numbers(out, Attr::Worlddim, &self.world)?;
-        print::vector(out, Attr::Viewpoint, self.viewpoint)?;
+        print::numbers(out, Attr::Worlddim, &self.world, scale)?;
+        print::vector(out, Attr::Viewpoint, self.viewpoint, scale)?;
         print::footer(out)
     }
 }

@@ -465,6 +465,13 @@ pub enum ErrorKind {
         /// The number type's name.
         number_type: &'static str,
     },
+    /// A length below the resolution of the scene's number type (after any scaling).
+    TooSmallForType {
+        /// The attribute.
+        attr: Attr,
+        /// The number type's name.
+        number_type: &'static str,
+    },
     /// A number beyond the range of `f64`.
     NumberTooLarge {
         /// The text.
@@ -585,6 +592,7 @@ impl ErrorKind {
             | ErrorKind::ZeroVector { attr }
             | ErrorKind::NonFiniteValue { attr }
             | ErrorKind::BeyondRange { attr, .. }
+            | ErrorKind::TooSmallForType { attr, .. }
             | ErrorKind::UndefinedMaterial { attr, .. }
             | ErrorKind::OutOfRange { attr, .. } => Some(attr),
             ErrorKind::PixeldimTooSmall
@@ -679,6 +687,10 @@ impl fmt::Display for ErrorKind {
                     "`{attr}` is beyond the range of {number_type}, the number type of this build"
                 )
             }
+            ErrorKind::TooSmallForType { attr, number_type } => write!(
+                f,
+                "`{attr}` is too small for {number_type}, the number type of this build (below its resolution once the scene is scaled to its range)"
+            ),
             ErrorKind::NumberTooLarge { found } => {
                 write!(f, "{found} is out of range (beyond ±1.8e308)")
             }

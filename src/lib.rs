@@ -66,6 +66,7 @@ pub mod name;
 pub mod object;
 pub mod parse;
 pub mod print;
+pub mod range;
 pub mod ray;
 pub mod render;
 pub mod scalar;

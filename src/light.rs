@@ -3,7 +3,7 @@
 use crate::error::{Attr, ErrorKind, Range};
 use crate::name::{Name, bounded};
 use crate::print;
-use crate::scalar::{Scalar, load, load3};
+use crate::scalar::{Scalar, load, load_position};
 use crate::vec3::Vec3;
 use core::fmt;
 
@@ -76,21 +76,28 @@ pub struct Light<S> {
     name: Name,
     /// Where it is.
     pub location: Vec3<S>,
-    /// What it emits.
+    /// What it emits, times the scene's scale: the glint term.
     pub emissivity: Vec3<S>,
+    /// What it emits, times the square of the scene's scale: the diffuse term, which is
+    /// divided by the distance to the light as well as by the distance travelled. Equal to
+    /// `emissivity` in an unscaled scene.
+    pub diffuse_emissivity: Vec3<S>,
     /// The cone, for a spotlight.
     pub spot: Option<Spot<S>>,
 }
 
 impl<S: Scalar> Light<S> {
     /// Checks a definition.
-    pub(crate) fn build(def: &LightDef<'_>) -> Result<Self, ErrorKind> {
-        let location = load3::<S>(def.location, Attr::Location)?;
-        let emissivity = load3::<S>(def.emissivity, Attr::Emissivity)?;
+    /// Checks a definition, with the scene's scale.
+    pub(crate) fn build(def: &LightDef<'_>, scale: f64) -> Result<Self, ErrorKind> {
+        let location = load_position::<S>(def.location, scale, Attr::Location)?;
+        let emissivity = load_position::<S>(def.emissivity, scale, Attr::Emissivity)?;
+        let diffuse_emissivity =
+            load_position::<S>(def.emissivity, scale * scale, Attr::Emissivity)?;
         let spot = match def.spot {
             None => None,
             Some(cone) => {
-                let point = load3::<S>(cone.point, Attr::Point)?;
+                let point = load_position::<S>(cone.point, scale, Attr::Point)?;
                 let theta = load::<S>(cone.theta, Attr::Theta)?;
                 if !(0.0..=180.0).contains(&cone.theta) {
                     return Err(ErrorKind::OutOfRange {
@@ -114,6 +121,7 @@ impl<S: Scalar> Light<S> {
             name: bounded(def.name)?,
             location,
             emissivity,
+            diffuse_emissivity,
             spot,
         })
     }
@@ -124,18 +132,18 @@ impl<S: Scalar> Light<S> {
     }
 
     /// Writes the light or spotlight block.
-    pub fn print(&self, out: &mut dyn fmt::Write) -> fmt::Result {
+    pub fn print(&self, out: &mut dyn fmt::Write, scale: f64) -> fmt::Result {
         let keyword = if self.spot.is_some() {
             "spotlight"
         } else {
             "light"
         };
         print::header(out, keyword, &self.name)?;
-        print::vector(out, Attr::Location, self.location)?;
-        print::vector(out, Attr::Emissivity, self.emissivity)?;
+        print::vector(out, Attr::Location, self.location, scale)?;
+        print::vector(out, Attr::Emissivity, self.emissivity, scale)?;
         if let Some(spot) = &self.spot {
-            print::vector(out, Attr::Point, spot.point)?;
-            print::numbers(out, Attr::Theta, &[spot.theta])?;
+            print::vector(out, Attr::Point, spot.point, scale)?;
+            print::numbers(out, Attr::Theta, &[spot.theta], 1.0)?;
         }
         print::footer(out)
     }
@@ -148,7 +156,7 @@ mod tests {
     #[test]
     fn spotlight_axis_and_cone() {
         let def = LightDef::spot("s", [0.0, 4.0, 0.0], [1.0; 3], [0.0, 0.0, 0.0], 60.0);
-        let light = Light::<f64>::build(&def).unwrap();
+        let light = Light::<f64>::build(&def, 1.0).unwrap();
         let spot = light.spot.unwrap();
         assert_eq!(spot.axis, Vec3::new(0.0, -1.0, 0.0));
         assert!((spot.cos_theta - 0.5).abs() < 1e-15);
@@ -158,12 +166,12 @@ mod tests {
     fn spotlight_aimed_at_itself_is_an_error() {
         let def = LightDef::spot("s", [1.0; 3], [1.0; 3], [1.0; 3], 10.0);
         assert_eq!(
-            Light::<f32>::build(&def),
+            Light::<f32>::build(&def, 1.0),
             Err(ErrorKind::ZeroVector { attr: Attr::Point })
         );
         let wide = LightDef::spot("s", [1.0; 3], [1.0; 3], [0.0; 3], 181.0);
         assert_eq!(
-            Light::<f32>::build(&wide),
+            Light::<f32>::build(&wide, 1.0),
             Err(ErrorKind::OutOfRange {
                 attr: Attr::Theta,
                 range: Range::HalfTurn

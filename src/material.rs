@@ -3,7 +3,7 @@
 use crate::error::{Attr, ErrorKind, Range};
 use crate::name::{Name, bounded};
 use crate::print;
-use crate::scalar::{Scalar, load, load3};
+use crate::scalar::{Scalar, load, load_position, load3};
 use crate::vec3::Vec3;
 use core::fmt;
 
@@ -86,8 +86,10 @@ pub struct Material<S> {
 
 impl<S: Scalar> Material<S> {
     /// Checks a definition.
-    pub(crate) fn build(def: &MaterialDef<'_>) -> Result<Self, ErrorKind> {
-        let ambient = load3::<S>(def.ambient, Attr::Ambient)?;
+    /// Checks a definition. Ambient is multiplied by the scene's scale, as the course divides
+    /// it by the distance travelled.
+    pub(crate) fn build(def: &MaterialDef<'_>, scale: f64) -> Result<Self, ErrorKind> {
+        let ambient = load_position::<S>(def.ambient, scale, Attr::Ambient)?;
         let diffuse = load3::<S>(def.diffuse, Attr::Diffuse)?;
         let specular = load::<S>(def.specular, Attr::Specular)?;
         let shininess = load::<S>(def.shininess, Attr::Shininess)?;
@@ -139,17 +141,17 @@ impl<S: Scalar> Material<S> {
     }
 
     /// Writes the material block; zero attributes other than the colours are left out.
-    pub fn print(&self, out: &mut dyn fmt::Write) -> fmt::Result {
+    pub fn print(&self, out: &mut dyn fmt::Write, scale: f64) -> fmt::Result {
         print::header(out, "material", &self.name)?;
-        print::vector(out, Attr::Ambient, self.ambient)?;
-        print::vector(out, Attr::Diffuse, self.diffuse)?;
+        print::vector(out, Attr::Ambient, self.ambient, scale)?;
+        print::vector(out, Attr::Diffuse, self.diffuse, 1.0)?;
         for (attr, value) in [
             (Attr::Specular, self.specular),
             (Attr::Shininess, self.shininess),
             (Attr::Transparency, self.transparency),
         ] {
             if value != S::ZERO {
-                print::numbers(out, attr, &[value])?;
+                print::numbers(out, attr, &[value], 1.0)?;
             }
         }
         print::footer(out)
@@ -166,6 +168,7 @@ mod tests {
             &MaterialDef::new("g")
                 .diffuse([0.0, 8.0, 2.0])
                 .transparency(0.6),
+            1.0,
         )
         .unwrap();
         assert_eq!(m.filter, Vec3::new(0.0, 0.6, 0.15));
@@ -180,16 +183,16 @@ mod tests {
         ];
         for (def, attr) in bad {
             assert_eq!(
-                Material::<f32>::build(&def).unwrap_err().attribute(),
+                Material::<f32>::build(&def, 1.0).unwrap_err().attribute(),
                 Some(attr)
             );
         }
         assert_eq!(
-            Material::<f32>::build(&MaterialDef::new("a").transparency(0.5)),
+            Material::<f32>::build(&MaterialDef::new("a").transparency(0.5), 1.0),
             Err(ErrorKind::TransparentWithoutDiffuse)
         );
         assert_eq!(
-            Material::<f32>::build(&MaterialDef::new("a").ambient([f64::NAN, 0.0, 0.0])),
+            Material::<f32>::build(&MaterialDef::new("a").ambient([f64::NAN, 0.0, 0.0]), 1.0),
             Err(ErrorKind::NonFiniteValue {
                 attr: Attr::Ambient
             })

@@ -25,10 +25,11 @@ pub fn print_scene<
     scene: &Scene<'_, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>,
     out: &mut dyn fmt::Write,
 ) -> fmt::Result {
-    scene.camera().print(out)?;
+    let scale = scene.scale();
+    scene.camera().print(out, scale)?;
     for material in scene.materials() {
         out.write_str("\n")?;
-        material.print(out)?;
+        material.print(out, scale)?;
     }
     for texture in scene.textures() {
         out.write_str("\n")?;
@@ -36,7 +37,7 @@ pub fn print_scene<
     }
     for light in scene.lights() {
         out.write_str("\n")?;
-        light.print(out)?;
+        light.print(out, scale)?;
     }
     let palette = scene.palette();
     for object in scene.objects() {
@@ -56,19 +57,35 @@ pub fn footer(out: &mut dyn fmt::Write) -> fmt::Result {
     out.write_str("}\n")
 }
 
-/// `  ATTR v1 v2 ...`.
-pub fn numbers<S: Scalar>(out: &mut dyn fmt::Write, attr: Attr, values: &[S]) -> fmt::Result {
+/// `  ATTR v1 v2 ...`, each value divided by `scale` (the factor it was multiplied by at
+/// load; 1 for values that do not scale). Unscaled values are written in the type's own
+/// shortest text; scaled ones as the exact `f64` quotient.
+pub fn numbers<S: Scalar>(
+    out: &mut dyn fmt::Write,
+    attr: Attr,
+    values: &[S],
+    scale: f64,
+) -> fmt::Result {
     write!(out, "  {attr}")?;
     for value in values {
         out.write_str(" ")?;
-        value.write_shortest(out)?;
+        if scale == 1.0 {
+            value.write_shortest(out)?;
+        } else {
+            (value.to_f64() / scale).write_shortest(out)?;
+        }
     }
     out.write_str("\n")
 }
 
-/// `  ATTR x y z`.
-pub fn vector<S: Scalar>(out: &mut dyn fmt::Write, attr: Attr, v: Vec3<S>) -> fmt::Result {
-    numbers(out, attr, &[v.x, v.y, v.z])
+/// `  ATTR x y z`, divided by `scale` (see [`numbers`]).
+pub fn vector<S: Scalar>(
+    out: &mut dyn fmt::Write,
+    attr: Attr,
+    v: Vec3<S>,
+    scale: f64,
+) -> fmt::Result {
+    numbers(out, attr, &[v.x, v.y, v.z], scale)
 }
 
 /// `  ATTR WORD`.

@@ -9,6 +9,8 @@ use crate::error::{Collection, Entity, Error, ErrorKind, Snippet};
 use crate::light::{Light, LightDef};
 use crate::material::{Material, MaterialDef, MaterialId};
 use crate::object::{Hit, Object, ObjectDef, Palette, Z_LIMIT, closest_hit};
+use crate::parse::grammar::Item;
+use crate::range::Extent;
 use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::texture::{Texture, TextureDef};
@@ -57,6 +59,7 @@ pub struct SceneBuilder<
     lights: Vec<Light<S>, LIGHTS>,
     textures: Vec<Texture<'t>, TEXTURES>,
     objects: Vec<Object<S>, OBJECTS>,
+    scale: f64,
 }
 
 fn capacity_error(what: Collection, capacity: usize) -> ErrorKind {
@@ -91,14 +94,22 @@ impl<
     const MAX_WIDTH: usize,
 > SceneBuilder<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>
 {
-    /// An empty builder.
+    /// An empty builder for a scene used as written (scale 1).
     pub const fn new() -> Self {
+        Self::with_scale(1.0)
+    }
+
+    /// An empty builder that multiplies every length by `scale` (see [`crate::range`]);
+    /// use [`Extent::scale_for`](crate::range::Extent::scale_for) to choose it. Anything but
+    /// a power of two changes the image by rounding.
+    pub const fn with_scale(scale: f64) -> Self {
         Self {
             camera: None,
             materials: Vec::new(),
             lights: Vec::new(),
             textures: Vec::new(),
             objects: Vec::new(),
+            scale,
         }
     }
 
@@ -107,7 +118,7 @@ impl<
         if self.camera.is_some() {
             return Err(ErrorKind::SecondCamera);
         }
-        self.camera = Some(Camera::build(def, MAX_WIDTH)?);
+        self.camera = Some(Camera::build(def, MAX_WIDTH, self.scale)?);
         Ok(())
     }
 
@@ -122,7 +133,7 @@ impl<
         if self.materials.is_full() || u16::try_from(self.materials.len()).is_err() {
             return Err(capacity_error(Collection::Materials, MATERIALS));
         }
-        let material = Material::build(def)?;
+        let material = Material::build(def, self.scale)?;
         self.materials
             .push(material)
             .map_err(|_| capacity_error(Collection::Materials, MATERIALS))
@@ -133,7 +144,7 @@ impl<
         if self.lights.is_full() {
             return Err(capacity_error(Collection::Lights, LIGHTS));
         }
-        let light = Light::build(def)?;
+        let light = Light::build(def, self.scale)?;
         self.lights
             .push(light)
             .map_err(|_| capacity_error(Collection::Lights, LIGHTS))
@@ -161,7 +172,12 @@ impl<
         if self.objects.is_full() {
             return Err(capacity_error(Collection::Objects, OBJECTS));
         }
-        let object = Object::build(def, |n| self.find_material(n), |n| self.find_texture(n))?;
+        let object = Object::build(
+            def,
+            |n| self.find_material(n),
+            |n| self.find_texture(n),
+            self.scale,
+        )?;
         self.objects
             .push(object)
             .map_err(|_| capacity_error(Collection::Objects, OBJECTS))
@@ -177,7 +193,7 @@ impl<
             lights: self.lights,
             textures: self.textures,
             objects: self.objects,
-            scale: 1.0,
+            scale: self.scale,
         })
     }
 
@@ -225,7 +241,13 @@ impl<
         lights: &[LightDef<'_>],
         objects: &[ObjectDef<'_>],
     ) -> Result<Self, Error> {
-        let mut builder = SceneBuilder::new();
+        let mut extent = Extent::EMPTY;
+        extent.include(&Item::Camera(*camera));
+        lights.iter().for_each(|l| extent.include(&Item::Light(*l)));
+        objects
+            .iter()
+            .for_each(|o| extent.include(&Item::Object(*o)));
+        let mut builder = SceneBuilder::with_scale(extent.scale_for::<S>());
         builder.camera(camera)?;
         for def in materials {
             builder.material(def)?;

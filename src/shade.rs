@@ -148,7 +148,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let Some(filter) = self.shadow_filter(hit.point, l, distance, index) else {
             return Vec3::ZERO;
         };
-        let mut c = diffuse.mul_each(light.emissivity).mul_each(filter) * cos / distance;
+        let mut c = diffuse.mul_each(light.diffuse_emissivity).mul_each(filter) * cos / distance;
         if shininess != S::ZERO {
             let halfway = (eye - hit.point).unit().and_then(|v| (v + l).unit());
             if let Some(h) = halfway {

@@ -211,6 +211,9 @@ fn compare(reference: &Image, other: &Image) -> Stats {
 
 fn scenes() -> Vec<PathBuf> {
     let mut all = common::project_scenes();
+    all.extend(common::scene_files(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes"),
+    ));
     if let Some(dir) = common::conformance_dir() {
         all.extend(common::scene_files(&dir));
     }

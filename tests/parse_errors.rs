@@ -2,7 +2,7 @@
 
 use microray::error::TextureError;
 use microray::host::HostScene;
-use microray::parse::{no_textures, parse_scene};
+use microray::parse::{no_textures, parse_scene, parse_scene_with_scale};
 use microray::{Error, Scene};
 
 const CAM: &str = "camera c { pixeldim 64 48 worlddim 8 6 viewpoint 4 3 3 }\n";
@@ -547,18 +547,44 @@ fn the_same_scene_in_every_number_type() {
 
 #[test]
 fn values_beyond_the_number_type() {
+    // Used as written, a radius of 1e39 does not fit f32 ...
     let text = scene("sphere s { material m center 0 0 -5 radius 1e39 }");
-    let e = parse_scene::<f32, 32, 16, 8, 16, 1024>(text.as_bytes(), no_textures).unwrap_err();
+    let e = parse_scene_with_scale::<f32, 32, 16, 8, 16, 1024>(text.as_bytes(), no_textures, 1.0)
+        .unwrap_err();
     assert_eq!(
         e.to_string(),
         "3:37: `radius` is beyond the range of f32, the number type of this build"
     );
-    // A square computed at load counts too: 1e20 fits f32, its square does not.
-    let text = scene("sphere s { material m center 0 0 -5 radius 1e20 }");
-    let e = parse_scene::<f32, 32, 16, 8, 16, 1024>(text.as_bytes(), no_textures).unwrap_err();
+    // ... and neither does the square of 1e20, computed at load.
+    let text20 = scene("sphere s { material m center 0 0 -5 radius 1e20 }");
+    let e = parse_scene_with_scale::<f32, 32, 16, 8, 16, 1024>(text20.as_bytes(), no_textures, 1.0)
+        .unwrap_err();
     assert_eq!(
         e.to_string(),
         "3:37: `radius` is beyond the range of f32, the number type of this build"
     );
-    assert!(parse_scene::<f64, 32, 16, 8, 16, 1024>(text.as_bytes(), no_textures).is_ok());
+    // parse_scene scales such scenes into range (by a power of two: the image is the same).
+    let text25 = scene("sphere s { material m center 0 0 -5 radius 1e25 }");
+    let scaled = parse_scene::<f32, 32, 16, 8, 16, 1024>(text25.as_bytes(), no_textures).unwrap();
+    assert!(
+        scaled.scale() < 1e-7 && scaled.scale().log2().fract() == 0.0,
+        "{}",
+        scaled.scale()
+    );
+    // With 1e39 the camera's world window would fall below f32's resolution.
+    let e = parse_scene::<f32, 32, 16, 8, 16, 1024>(text.as_bytes(), no_textures).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "1:27: `worlddim` is too small for f32, the number type of this build (below its resolution once the scene is scaled to its range)"
+    );
+    // What scaling cannot save: a range of sizes wider than the type's.
+    let wide = scene(
+        "sphere big { material m center 0 0 -5 radius 1e30 }\nsphere small { material m center 0 0 -5 radius 1e-10 }",
+    );
+    let e = parse_scene::<f32, 32, 16, 8, 16, 1024>(wide.as_bytes(), no_textures).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "4:41: `radius` is too small for f32, the number type of this build (below its resolution once the scene is scaled to its range)"
+    );
+    assert!(parse_scene::<f64, 32, 16, 8, 16, 1024>(wide.as_bytes(), no_textures).is_ok());
 }

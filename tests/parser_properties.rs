@@ -187,8 +187,31 @@ proptest! {
                 microray::ErrorKind::ZeroVector { .. }
                     | microray::ErrorKind::XdirParallelToNormal
                     | microray::ErrorKind::ImageTooWide { .. }
+                    // Random values spanning 1e-300 to 1e300 exceed what even f64 resolves.
+                    | microray::ErrorKind::TooSmallForType { .. }
+                    | microray::ErrorKind::BeyondRange { .. }
             );
             prop_assert!(allowed, "{}\n{}", e, text);
         }
     }
+}
+
+#[test]
+fn the_round_trip_property_is_not_vacuous() {
+    use proptest::strategy::ValueTree;
+    use proptest::test_runner::TestRunner;
+    let mut runner = TestRunner::deterministic();
+    let strategy = valid_scene();
+    let total = 1000;
+    let loaded = (0..total)
+        .filter(|_| {
+            let text = strategy.new_tree(&mut runner).unwrap().current();
+            parse_scene::<f64, 256, 64, 32, 16, 8192>(text.as_bytes(), no_textures).is_ok()
+        })
+        .count();
+    eprintln!("{loaded} of {total} generated scenes load");
+    assert!(
+        loaded * 2 >= total,
+        "only {loaded} of {total} generated scenes load"
+    );
 }

@@ -10,7 +10,7 @@ use crate::material::MaterialId;
 use crate::object::plane::{Plane, PlaneDef};
 use crate::print;
 use crate::ray::Ray;
-use crate::scalar::{Scalar, load2, load3};
+use crate::scalar::{Scalar, load_length, load3};
 use crate::vec3::Vec3;
 use core::fmt;
 
@@ -62,18 +62,19 @@ pub struct Rect<S> {
 
 impl<S: Scalar> Rect<S> {
     /// Checks a definition: a plane's checks, `xdir` not along the normal, positive size.
-    pub(crate) fn build(def: &RectDef) -> Result<Self, ErrorKind> {
-        let plane = Plane::build(&PlaneDef {
-            normal: def.normal,
-            point: def.point,
-        })?;
+    pub(crate) fn build(def: &RectDef, scale: f64) -> Result<Self, ErrorKind> {
+        let plane = Plane::build(
+            &PlaneDef {
+                normal: def.normal,
+                point: def.point,
+            },
+            scale,
+        )?;
         let xdir = load3::<S>(def.xdir, Attr::Xdir)?;
-        let dimensions = load2::<S>(def.dimensions, Attr::Dimensions)?;
-        if dimensions.iter().any(|&d| d <= S::ZERO) || def.dimensions.iter().any(|&d| d <= 0.0) {
-            return Err(ErrorKind::NotPositive {
-                attr: Attr::Dimensions,
-            });
-        }
+        let dimensions = [
+            load_length::<S>(def.dimensions[0], scale, Attr::Dimensions)?,
+            load_length::<S>(def.dimensions[1], scale, Attr::Dimensions)?,
+        ];
         let n = plane.unit_normal.to_f64();
         let x = xdir.to_f64();
         if x.is_zero() {
@@ -117,10 +118,10 @@ impl<S: Scalar> Rect<S> {
     }
 
     /// Writes the plane's attributes, `xdir` and `dimensions`.
-    pub(crate) fn print_attributes(&self, out: &mut dyn fmt::Write) -> fmt::Result {
-        self.plane.print_attributes(out)?;
-        print::vector(out, Attr::Xdir, self.xdir)?;
-        print::numbers(out, Attr::Dimensions, &self.dimensions)
+    pub(crate) fn print_attributes(&self, out: &mut dyn fmt::Write, scale: f64) -> fmt::Result {
+        self.plane.print_attributes(out, scale)?;
+        print::vector(out, Attr::Xdir, self.xdir, 1.0)?;
+        print::numbers(out, Attr::Dimensions, &self.dimensions, scale)
     }
 
     /// The fplane kind's function table.
@@ -140,12 +141,13 @@ pub fn fplane_init<S: Scalar>(
     name: &str,
     material: MaterialId,
     def: &RectDef,
+    scale: f64,
 ) -> Result<Object<S>, ErrorKind> {
     Object::init(
         &Rect::VTABLE,
         name,
         material,
-        Shape::FPlane(Rect::build(def)?),
+        Shape::FPlane(Rect::build(def, scale)?),
     )
 }
 
@@ -165,7 +167,7 @@ pub fn fplane_print<S: Scalar>(
 ) -> fmt::Result {
     object_print(obj, palette, out)?;
     if let Shape::FPlane(rect) = obj.shape() {
-        rect.print_attributes(out)?;
+        rect.print_attributes(out, palette.scale)?;
     }
     print::footer(out)
 }
@@ -187,7 +189,7 @@ mod tests {
 
     #[test]
     fn axes_are_orthonormal_rows() {
-        let r = Rect::<f64>::build(&tilted()).unwrap();
+        let r = Rect::<f64>::build(&tilted(), 1.0).unwrap();
         assert_eq!(r.u, Vec3::new(1.0, 0.0, 0.0));
         let s = core::f64::consts::FRAC_1_SQRT_2;
         assert!((r.v - Vec3::new(0.0, s, -s)).length() < 1e-15);
@@ -196,7 +198,7 @@ mod tests {
 
     #[test]
     fn hits_inside_only() {
-        let obj: Object<f64> = fplane_init("f", 0, &tilted()).unwrap();
+        let obj: Object<f64> = fplane_init("f", 0, &tilted(), 1.0).unwrap();
         let Shape::FPlane(rect) = obj.shape() else {
             panic!("not an fplane")
         };
@@ -223,23 +225,23 @@ mod tests {
         let mut def = tilted();
         def.xdir = [0.0, 2.0, 2.0];
         assert_eq!(
-            Rect::<f64>::build(&def),
+            Rect::<f64>::build(&def, 1.0),
             Err(ErrorKind::XdirParallelToNormal)
         );
         def.xdir = [0.0, 0.1, 0.1];
         assert_eq!(
-            Rect::<f64>::build(&def),
+            Rect::<f64>::build(&def, 1.0),
             Err(ErrorKind::XdirParallelToNormal)
         );
         def.xdir = [0.0; 3];
         assert_eq!(
-            Rect::<f64>::build(&def),
+            Rect::<f64>::build(&def, 1.0),
             Err(ErrorKind::ZeroVector { attr: Attr::Xdir })
         );
         def = tilted();
         def.dimensions = [6.0, 0.0];
         assert_eq!(
-            Rect::<f64>::build(&def),
+            Rect::<f64>::build(&def, 1.0),
             Err(ErrorKind::NotPositive {
                 attr: Attr::Dimensions
             })

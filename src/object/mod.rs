@@ -386,6 +386,7 @@ impl<S: Scalar> Object<S> {
         def: &ObjectDef<'_>,
         find_material: impl Fn(&str) -> Option<MaterialId>,
         find_texture: impl Fn(&str) -> Option<u16>,
+        scale: f64,
     ) -> Result<Self, ErrorKind> {
         let material_named = |attr: Attr, name: &str| {
             find_material(name).ok_or(ErrorKind::UndefinedMaterial {
@@ -395,18 +396,18 @@ impl<S: Scalar> Object<S> {
         };
         let material = material_named(Attr::Material, def.material)?;
         match &def.shape {
-            ShapeDef::Plane(p) => plane::plane_init(def.name, material, p),
-            ShapeDef::Sphere(s) => sphere::sphere_init(def.name, material, s),
-            ShapeDef::FPlane(r) => fplane::fplane_init(def.name, material, r),
+            ShapeDef::Plane(p) => plane::plane_init(def.name, material, p, scale),
+            ShapeDef::Sphere(s) => sphere::sphere_init(def.name, material, s, scale),
+            ShapeDef::FPlane(r) => fplane::fplane_init(def.name, material, r, scale),
             ShapeDef::TiledPlane(r, alt) => {
                 let alt = material_named(Attr::Altmaterial, alt)?;
-                tiled_plane::tiled_plane_init(def.name, material, r, alt)
+                tiled_plane::tiled_plane_init(def.name, material, r, alt, scale)
             }
             ShapeDef::TexPlane(r, texname, mode) => {
                 let texture = find_texture(texname).ok_or(ErrorKind::UndefinedTexture {
                     name: Snippet::new(texname.as_bytes()),
                 })?;
-                texplane::texplane_init(def.name, material, r, texture, *mode)
+                texplane::texplane_init(def.name, material, r, texture, *mode, scale)
             }
         }
     }
@@ -425,6 +426,7 @@ pub(crate) mod test_support {
                 &MaterialDef::new("red")
                     .ambient([1.0, 0.0, 0.0])
                     .diffuse([2.0, 0.0, 0.0]),
+                1.0,
             )
             .unwrap(),
             Material::build(
@@ -432,6 +434,7 @@ pub(crate) mod test_support {
                     .ambient([0.5; 3])
                     .diffuse([3.0; 3])
                     .specular(0.25),
+                1.0,
             )
             .unwrap(),
         ]
@@ -441,6 +444,7 @@ pub(crate) mod test_support {
         Camera::build(
             &CameraDef::new("c", [80, 60], [8.0, 6.0], [4.0, 3.0, 3.0]),
             1024,
+            1.0,
         )
         .unwrap()
     }

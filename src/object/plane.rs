@@ -8,7 +8,7 @@ use crate::error::{Attr, Entity, ErrorKind};
 use crate::material::MaterialId;
 use crate::print;
 use crate::ray::Ray;
-use crate::scalar::{Scalar, load, load3};
+use crate::scalar::{Scalar, load, load_position, load3};
 use crate::vec3::Vec3;
 use core::fmt;
 
@@ -36,9 +36,9 @@ pub struct Plane<S> {
 
 impl<S: Scalar> Plane<S> {
     /// Checks a definition: finite values, a normal that is not zero.
-    pub(crate) fn build(def: &PlaneDef) -> Result<Self, ErrorKind> {
+    pub(crate) fn build(def: &PlaneDef, scale: f64) -> Result<Self, ErrorKind> {
         let normal = load3::<S>(def.normal, Attr::Normal)?;
-        let point = load3::<S>(def.point, Attr::Point)?;
+        let point = load_position::<S>(def.point, scale, Attr::Point)?;
         // Invariants in f64 from the stored values: every number type starts from the same
         // correctly rounded unit normal, and a re-read printed scene is equal.
         let unit = normal
@@ -68,9 +68,9 @@ impl<S: Scalar> Plane<S> {
     }
 
     /// Writes `normal` and `point`.
-    pub(crate) fn print_attributes(&self, out: &mut dyn fmt::Write) -> fmt::Result {
-        print::vector(out, Attr::Normal, self.normal)?;
-        print::vector(out, Attr::Point, self.point)
+    pub(crate) fn print_attributes(&self, out: &mut dyn fmt::Write, scale: f64) -> fmt::Result {
+        print::vector(out, Attr::Normal, self.normal, 1.0)?;
+        print::vector(out, Attr::Point, self.point, scale)
     }
 
     /// The plane kind's function table.
@@ -90,12 +90,13 @@ pub fn plane_init<S: Scalar>(
     name: &str,
     material: MaterialId,
     def: &PlaneDef,
+    scale: f64,
 ) -> Result<Object<S>, ErrorKind> {
     Object::init(
         &Plane::VTABLE,
         name,
         material,
-        Shape::Plane(Plane::build(def)?),
+        Shape::Plane(Plane::build(def, scale)?),
     )
 }
 
@@ -115,7 +116,7 @@ pub fn plane_print<S: Scalar>(
 ) -> fmt::Result {
     object_print(obj, palette, out)?;
     if let Shape::Plane(plane) = obj.shape() {
-        plane.print_attributes(out)?;
+        plane.print_attributes(out, palette.scale)?;
     }
     print::footer(out)
 }
@@ -133,6 +134,7 @@ mod tests {
                 normal: [0.0, 0.0, 1.0],
                 point: [0.0, 0.0, -7.0],
             },
+            1.0,
         )
         .unwrap()
     }
@@ -157,19 +159,25 @@ mod tests {
 
     #[test]
     fn normal_is_normalised_at_load_and_written_one_kept() {
-        let p = Plane::<f64>::build(&PlaneDef {
-            normal: [0.0, 3.0, 4.0],
-            point: [0.0, 1.0, 0.0],
-        })
+        let p = Plane::<f64>::build(
+            &PlaneDef {
+                normal: [0.0, 3.0, 4.0],
+                point: [0.0, 1.0, 0.0],
+            },
+            1.0,
+        )
         .unwrap();
         assert_eq!(p.normal, Vec3::new(0.0, 3.0, 4.0));
         assert_eq!(p.unit_normal, Vec3::new(0.0, 0.6, 0.8));
         assert_eq!(p.n_dot_point, 0.6);
         assert_eq!(
-            Plane::<f64>::build(&PlaneDef {
-                normal: [0.0; 3],
-                point: [0.0; 3]
-            }),
+            Plane::<f64>::build(
+                &PlaneDef {
+                    normal: [0.0; 3],
+                    point: [0.0; 3]
+                },
+                1.0
+            ),
             Err(ErrorKind::ZeroVector { attr: Attr::Normal })
         );
     }

@@ -8,7 +8,7 @@ use crate::error::{Attr, Entity, ErrorKind};
 use crate::material::MaterialId;
 use crate::print;
 use crate::ray::Ray;
-use crate::scalar::{Scalar, load, load3};
+use crate::scalar::{Scalar, load, load_length, load_position};
 use crate::vec3::Vec3;
 use core::fmt;
 
@@ -34,12 +34,9 @@ pub struct Sphere<S> {
 
 impl<S: Scalar> Sphere<S> {
     /// Checks a definition: finite values, a radius above zero.
-    pub(crate) fn build(def: &SphereDef) -> Result<Self, ErrorKind> {
-        let center = load3::<S>(def.center, Attr::Center)?;
-        let radius = load::<S>(def.radius, Attr::Radius)?;
-        if def.radius <= 0.0 || radius <= S::ZERO {
-            return Err(ErrorKind::NotPositive { attr: Attr::Radius });
-        }
+    pub(crate) fn build(def: &SphereDef, scale: f64) -> Result<Self, ErrorKind> {
+        let center = load_position::<S>(def.center, scale, Attr::Center)?;
+        let radius = load_length::<S>(def.radius, scale, Attr::Radius)?;
         let r = radius.to_f64();
         Ok(Self {
             center,
@@ -96,12 +93,13 @@ pub fn sphere_init<S: Scalar>(
     name: &str,
     material: MaterialId,
     def: &SphereDef,
+    scale: f64,
 ) -> Result<Object<S>, ErrorKind> {
     Object::init(
         &Sphere::VTABLE,
         name,
         material,
-        Shape::Sphere(Sphere::build(def)?),
+        Shape::Sphere(Sphere::build(def, scale)?),
     )
 }
 
@@ -121,8 +119,8 @@ pub fn sphere_print<S: Scalar>(
 ) -> fmt::Result {
     object_print(obj, palette, out)?;
     if let Shape::Sphere(sphere) = obj.shape() {
-        print::vector(out, Attr::Center, sphere.center)?;
-        print::numbers(out, Attr::Radius, &[sphere.radius])?;
+        print::vector(out, Attr::Center, sphere.center, palette.scale)?;
+        print::numbers(out, Attr::Radius, &[sphere.radius], palette.scale)?;
     }
     print::footer(out)
 }
@@ -140,6 +138,7 @@ mod tests {
                 center: [0.0, 0.0, -10.0],
                 radius: 2.0,
             },
+            1.0,
         )
         .unwrap()
     }
@@ -177,7 +176,7 @@ mod tests {
                 center: [0.0; 3],
                 radius,
             };
-            let result = Sphere::<f32>::build(&def);
+            let result = Sphere::<f32>::build(&def, 1.0);
             assert_eq!(
                 result,
                 Err(ErrorKind::NotPositive { attr: Attr::Radius }),

@@ -87,9 +87,10 @@ pub fn texplane_init<S: Scalar>(
     def: &RectDef,
     texture: u16,
     mode: TextureMode,
+    scale: f64,
 ) -> Result<Object<S>, ErrorKind> {
     let textured = TexPlane {
-        rect: Rect::build(def)?,
+        rect: Rect::build(def, scale)?,
         texture,
         mode,
     };
@@ -137,7 +138,7 @@ pub fn texplane_print<S: Scalar>(
 ) -> fmt::Result {
     object_print(obj, palette, out)?;
     if let Shape::TexPlane(textured) = obj.shape() {
-        textured.rect.print_attributes(out)?;
+        textured.rect.print_attributes(out, palette.scale)?;
         let name = palette
             .textures
             .get(usize::from(textured.texture))
@@ -179,7 +180,7 @@ mod tests {
             [1.0, 0.0, 0.0],
             [8.0, 6.0],
         );
-        let obj: Object<f64> = texplane_init("w", 1, &def, 0, TextureMode::Fit).unwrap();
+        let obj: Object<f64> = texplane_init("w", 1, &def, 0, TextureMode::Fit, 1.0).unwrap();
         let look = |x: f64, y: f64| {
             let hit = obj.hits(&ray([x, y, 0.0], [0.0, 0.0, -1.0])).unwrap();
             (obj.ambient(&palette, &hit), obj.diffuse(&palette, &hit))

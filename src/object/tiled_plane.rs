@@ -33,8 +33,8 @@ pub struct TiledPlane<S> {
 }
 
 impl<S: Scalar> TiledPlane<S> {
-    fn build(def: &RectDef, altmaterial: MaterialId) -> Result<Self, ErrorKind> {
-        let rect = Rect::build(def)?;
+    fn build(def: &RectDef, altmaterial: MaterialId, scale: f64) -> Result<Self, ErrorKind> {
+        let rect = Rect::build(def, scale)?;
         // The offset scales with the sizes, so their ratio is the same in a scaled scene.
         let split = |size: f64| {
             let tiles = TILE_OFFSET / size;
@@ -86,8 +86,9 @@ pub fn tiled_plane_init<S: Scalar>(
     material: MaterialId,
     def: &RectDef,
     altmaterial: MaterialId,
+    scale: f64,
 ) -> Result<Object<S>, ErrorKind> {
-    let tiled = TiledPlane::build(def, altmaterial)?;
+    let tiled = TiledPlane::build(def, altmaterial, scale)?;
     Object::init(
         &TiledPlane::VTABLE,
         name,
@@ -120,9 +121,9 @@ pub fn tiled_plane_print<S: Scalar>(
 ) -> fmt::Result {
     object_print(obj, palette, out)?;
     if let Shape::TiledPlane(tiled) = obj.shape() {
-        tiled.rect.plane.print_attributes(out)?;
-        print::vector(out, Attr::Xdir, tiled.rect.xdir)?;
-        print::numbers(out, Attr::Dimensions, &tiled.written_dimensions)?;
+        tiled.rect.plane.print_attributes(out, palette.scale)?;
+        print::vector(out, Attr::Xdir, tiled.rect.xdir, 1.0)?;
+        print::numbers(out, Attr::Dimensions, &tiled.written_dimensions, 1.0)?;
         print::material_ref(out, Attr::Altmaterial, palette, tiled.altmaterial)?;
     }
     print::footer(out)
@@ -143,7 +144,7 @@ mod tests {
             [1.0, 0.0, 0.0],
             [1.0, 1.0],
         );
-        let obj: Object<f64> = tiled_plane_init("t", 0, &def, 1).unwrap();
+        let obj: Object<f64> = tiled_plane_init("t", 0, &def, 1, 1.0).unwrap();
         let mats = materials();
         let cam = camera();
         let palette = Palette {

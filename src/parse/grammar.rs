@@ -8,6 +8,7 @@ use crate::light::LightDef;
 use crate::material::MaterialDef;
 use crate::name::{NAME_CAPACITY, PATH_CAPACITY};
 use crate::object::{ObjectDef, PlaneDef, RectDef, ShapeDef, SphereDef, TextureMode};
+use crate::range::Extent;
 use crate::scalar::Scalar;
 use crate::scene::{Scene, SceneBuilder};
 use crate::texture::TextureDef;
@@ -207,20 +208,23 @@ fn is_keyword(token: Tok<'_>) -> bool {
         .any(|k| token.is(k.as_bytes()))
 }
 
-pub(super) fn parse<
-    't,
-    S: Scalar,
-    const OBJECTS: usize,
-    const MATERIALS: usize,
-    const LIGHTS: usize,
-    const TEXTURES: usize,
-    const MAX_WIDTH: usize,
->(
-    text: &[u8],
-    mut textures: impl FnMut(&str) -> Result<&'t [u8], TextureError>,
-) -> Result<Scene<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>, Error> {
+/// One definition of a scene file, as written.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Item<'i> {
+    Camera(CameraDef<'i>),
+    Material(MaterialDef<'i>),
+    Light(LightDef<'i>),
+    Texture { name: &'i str, filename: &'i str },
+    Object(ObjectDef<'i>),
+}
+
+/// Reads every block of `text` in order and hands its definition to `sink`; errors from
+/// either are placed at the block's attribute they are about.
+pub(crate) fn walk<'i>(
+    text: &'i [u8],
+    mut sink: impl FnMut(Item<'i>) -> Result<(), ErrorKind>,
+) -> Result<(), Error> {
     let mut cursor = Cursor { text, rest: text };
-    let mut builder = SceneBuilder::new();
     while let Some(keyword) = cursor.next()? {
         let entity = Entity::ALL
             .iter()
@@ -235,12 +239,68 @@ pub(super) fn parse<
                 )
             })?;
         let block = parse_block(&mut cursor, entity, keyword)?;
-        add(&mut builder, &block, &mut textures)
+        to_item(&block)
+            .and_then(&mut sink)
             .map_err(|kind| cursor.error(kind, block.offset_of(&kind)))?;
     }
+    Ok(())
+}
+
+pub(super) fn parse<
+    't,
+    S: Scalar,
+    const OBJECTS: usize,
+    const MATERIALS: usize,
+    const LIGHTS: usize,
+    const TEXTURES: usize,
+    const MAX_WIDTH: usize,
+>(
+    text: &[u8],
+    textures: impl FnMut(&str) -> Result<&'t [u8], TextureError>,
+) -> Result<Scene<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>, Error> {
+    // First pass: how large the scene is, so that it can be scaled into the type's range.
+    let mut extent = Extent::EMPTY;
+    walk(text, |item| {
+        extent.include(&item);
+        Ok(())
+    })?;
+    parse_with_scale(text, textures, extent.scale_for::<S>())
+}
+
+pub(super) fn parse_with_scale<
+    't,
+    S: Scalar,
+    const OBJECTS: usize,
+    const MATERIALS: usize,
+    const LIGHTS: usize,
+    const TEXTURES: usize,
+    const MAX_WIDTH: usize,
+>(
+    text: &[u8],
+    mut textures: impl FnMut(&str) -> Result<&'t [u8], TextureError>,
+    scale: f64,
+) -> Result<Scene<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>, Error> {
+    let mut builder = SceneBuilder::with_scale(scale);
+    walk(text, |item| match item {
+        Item::Camera(def) => builder.camera(&def),
+        Item::Material(def) => builder.material(&def),
+        Item::Light(def) => builder.light(&def),
+        Item::Object(def) => builder.object(&def),
+        Item::Texture { name, filename } => {
+            let ppm = textures(filename).map_err(|error| ErrorKind::Texture {
+                file: Snippet::new(filename.as_bytes()),
+                error,
+            })?;
+            builder.texture(&TextureDef {
+                name,
+                filename,
+                ppm,
+            })
+        }
+    })?;
     builder
         .build()
-        .map_err(|kind| cursor.error(kind, text.len()))
+        .map_err(|kind| Error::at(kind, Position::of_offset(text, text.len())))
 }
 
 fn parse_block<'i>(
@@ -425,70 +485,52 @@ fn rect(block: &Block<'_>) -> Result<RectDef, ErrorKind> {
     })
 }
 
-fn add<
-    't,
-    S: Scalar,
-    const OBJECTS: usize,
-    const MATERIALS: usize,
-    const LIGHTS: usize,
-    const TEXTURES: usize,
-    const MAX_WIDTH: usize,
->(
-    builder: &mut SceneBuilder<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>,
-    block: &Block<'_>,
-    textures: &mut impl FnMut(&str) -> Result<&'t [u8], TextureError>,
-) -> Result<(), ErrorKind> {
+fn to_item<'i>(block: &Block<'i>) -> Result<Item<'i>, ErrorKind> {
     let name = block.name;
     let shape = match block.entity {
         Entity::Camera => {
             let [w, h] = block.numbers::<2>(Attr::Pixeldim)?;
-            return builder.camera(&CameraDef::new(
+            return Ok(Item::Camera(CameraDef::new(
                 name,
                 [pixels(w), pixels(h)],
                 block.numbers(Attr::Worlddim)?,
                 block.numbers(Attr::Viewpoint)?,
-            ));
+            )));
         }
         Entity::Material => {
             let [specular, shininess, transparency] =
                 [Attr::Specular, Attr::Shininess, Attr::Transparency]
                     .map(|a| block.numbers_or_zero::<1>(a)[0]);
-            return builder.material(&MaterialDef {
+            return Ok(Item::Material(MaterialDef {
                 name,
                 ambient: block.numbers_or_zero(Attr::Ambient),
                 diffuse: block.numbers_or_zero(Attr::Diffuse),
                 specular,
                 shininess,
                 transparency,
-            });
+            }));
         }
         Entity::Light => {
             let location = block.numbers(Attr::Location)?;
-            return builder.light(&LightDef::point(
+            return Ok(Item::Light(LightDef::point(
                 name,
                 location,
                 block.numbers(Attr::Emissivity)?,
-            ));
+            )));
         }
         Entity::Spotlight => {
-            return builder.light(&LightDef::spot(
+            return Ok(Item::Light(LightDef::spot(
                 name,
                 block.numbers(Attr::Location)?,
                 block.numbers(Attr::Emissivity)?,
                 block.numbers(Attr::Point)?,
                 block.numbers::<1>(Attr::Theta)?[0],
-            ));
+            )));
         }
         Entity::Texture => {
-            let filename = block.word(Attr::Filename)?;
-            let ppm = textures(filename).map_err(|error| ErrorKind::Texture {
-                file: Snippet::new(filename.as_bytes()),
-                error,
-            })?;
-            return builder.texture(&TextureDef {
+            return Ok(Item::Texture {
                 name,
-                filename,
-                ppm,
+                filename: block.word(Attr::Filename)?,
             });
         }
         Entity::Plane => ShapeDef::Plane(PlaneDef {
@@ -516,9 +558,9 @@ fn add<
         }
     };
     let material = block.word(Attr::Material)?;
-    builder.object(&ObjectDef {
+    Ok(Item::Object(ObjectDef {
         name,
         material,
         shape,
-    })
+    }))
 }

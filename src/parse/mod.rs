@@ -9,7 +9,7 @@
 //! Texture files are asked of a caller-supplied resolver by file name: firmware returns an
 //! `include_bytes!` slice, the host tracer reads the file (see `microray::host`).
 
-mod grammar;
+pub(crate) mod grammar;
 pub mod number;
 
 use crate::error::{Attr, Entity, Error, TextureError};
@@ -32,6 +32,25 @@ pub fn parse_scene<
     textures: impl FnMut(&str) -> Result<&'t [u8], TextureError>,
 ) -> Result<Scene<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>, Error> {
     grammar::parse(text, textures)
+}
+
+/// Parses scene text with every length multiplied by `scale` (see [`crate::range`]), instead
+/// of the scale [`parse_scene`] chooses for the number type. A power of two changes a
+/// floating-point image not at all.
+pub fn parse_scene_with_scale<
+    't,
+    S: Scalar,
+    const OBJECTS: usize,
+    const MATERIALS: usize,
+    const LIGHTS: usize,
+    const TEXTURES: usize,
+    const MAX_WIDTH: usize,
+>(
+    text: &[u8],
+    textures: impl FnMut(&str) -> Result<&'t [u8], TextureError>,
+    scale: f64,
+) -> Result<Scene<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>, Error> {
+    grammar::parse_with_scale(text, textures, scale)
 }
 
 /// A texture resolver for scenes without textures: every file is "not found".

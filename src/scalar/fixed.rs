@@ -169,6 +169,9 @@ impl Scalar for I16F16 {
     const TWO: Self = Self::from_bits(2 << FRAC);
     // Distances between points of a cube of half-side 8192 stay below 2 sqrt(3) 8192 = 28378.
     const MAX_EXTENT: f64 = 8192.0;
+    // Half the range: room for a few lights' terms to be added before the division.
+    const MAX_TERM: f64 = 16384.0;
+    const MIN_NORMAL: f64 = 1.0 / 65536.0;
     // 256 steps of 2^-16.
     const MIN_FEATURE: f64 = 1.0 / 256.0;
 

@@ -52,6 +52,12 @@ pub trait Scalar:
     /// Scenes whose coordinates exceed this are scaled down at load (by a power of two, so
     /// that the image is unchanged in exact arithmetic).
     const MAX_EXTENT: f64;
+    /// The largest a shading term (ambient, emissivity, diffuse times emissivity) or a squared
+    /// radius may be after scaling, so that sums and squares stay within range.
+    const MAX_TERM: f64;
+    /// The smallest positive normal value (the type's resolution for fixed point); values
+    /// below it are loaded as zero.
+    const MIN_NORMAL: f64;
     /// The smallest length (radius, rectangle side, world window) the type resolves well;
     /// a scene with a smaller one, after scaling, is rejected for this type.
     const MIN_FEATURE: f64;
@@ -129,7 +135,10 @@ impl Scalar for f64 {
     const TWO: Self = 2.0;
     // Squares of coordinates stay finite below 2^500.
     const MAX_EXTENT: f64 = 3.273390607896142e150;
-    const MIN_FEATURE: f64 = 0.0;
+    const MAX_TERM: f64 = 1e300;
+    const MIN_NORMAL: f64 = f64::MIN_POSITIVE;
+    // Squares of smaller lengths would leave the normal range.
+    const MIN_FEATURE: f64 = 1e-150;
 
     #[inline]
     fn from_f64(value: f64) -> Self {
@@ -168,7 +177,10 @@ impl Scalar for f32 {
     const TWO: Self = 2.0;
     // Squares of coordinates stay finite below 2^60.
     const MAX_EXTENT: f64 = 1.152921504606847e18;
-    const MIN_FEATURE: f64 = 0.0;
+    const MAX_TERM: f64 = 1e36;
+    const MIN_NORMAL: f64 = f32::MIN_POSITIVE as f64;
+    // Squares of smaller lengths would leave the normal range.
+    const MIN_FEATURE: f64 = 1e-18;
 
     #[inline]
     fn from_f64(value: f64) -> Self {
@@ -204,15 +216,50 @@ pub(crate) fn load<S: Scalar>(value: f64, attr: Attr) -> Result<S, ErrorKind> {
     if !value.is_finite() {
         return Err(ErrorKind::NonFiniteValue { attr });
     }
-    S::from_f64_checked(value).ok_or(ErrorKind::BeyondRange {
+    // Below the normal range a value is zero for every purpose of the tracer, and scaling it
+    // by a power of two would not be exact: it is flushed to zero.
+    // (Multiplying by zero keeps the sign, so that `-0` prints back as `-0`.)
+    let value = if libm::fabs(value) < f64::MIN_POSITIVE {
+        value * 0.0
+    } else {
+        value
+    };
+    let loaded = S::from_f64_checked(value).ok_or(ErrorKind::BeyondRange {
         attr,
         number_type: S::NAME,
-    })
+    })?;
+    if loaded.to_f64() != 0.0 && libm::fabs(loaded.to_f64()) < S::MIN_NORMAL {
+        return Ok(S::from_f64(loaded.to_f64() * 0.0));
+    }
+    Ok(loaded)
 }
 
-/// [`load`] for each of two values.
-pub(crate) fn load2<S: Scalar>(v: [f64; 2], attr: Attr) -> Result<[S; 2], ErrorKind> {
-    Ok([load(v[0], attr)?, load(v[1], attr)?])
+/// A position, multiplied by the scene's scale (exact: a power of two) and loaded.
+pub(crate) fn load_position<S: Scalar>(
+    v: [f64; 3],
+    scale: f64,
+    attr: Attr,
+) -> Result<Vec3<S>, ErrorKind> {
+    if !v.iter().all(|c| c.is_finite()) {
+        return Err(ErrorKind::NonFiniteValue { attr });
+    }
+    load3([v[0] * scale, v[1] * scale, v[2] * scale], attr)
+}
+
+/// A length that must be above zero (radius, side, world window), scaled and loaded; it
+/// must also be at least the type's resolution.
+pub(crate) fn load_length<S: Scalar>(v: f64, scale: f64, attr: Attr) -> Result<S, ErrorKind> {
+    let length = load::<S>(v * scale, attr)?;
+    if !(v > 0.0) || !(length > S::ZERO) {
+        return Err(ErrorKind::NotPositive { attr });
+    }
+    if v * scale < S::MIN_FEATURE {
+        return Err(ErrorKind::TooSmallForType {
+            attr,
+            number_type: S::NAME,
+        });
+    }
+    Ok(length)
 }
 
 /// [`load`] for each component of a vector.

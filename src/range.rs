@@ -1,0 +1,209 @@
+//! Range: how large a scene is, how it is scaled into a number type's range, and which
+//! number type suits a scene on a target.
+//!
+//! Fixed point has a small range (Q16.16: ±32768), so a scene whose coordinates are larger
+//! than the type's [`Scalar::MAX_EXTENT`] is scaled down at load by a power of two `s`:
+//! positions, radii, sizes and the world window by `s`; and, so that the image is unchanged in
+//! exact arithmetic, the course's distance-dependent terms with it: the distance bound 32 and
+//! the z limit 0.01 by `s`, ambient by `s`, the light's diffuse emission by `s^2` (it is
+//! divided by a distance, then the sum by the distance travelled) and its glint emission by
+//! `s`. Powers of two are exact in floating point, so only fixed point loses anything (the
+//! low bits of small features). A feature that falls below the type's
+//! [`Scalar::MIN_FEATURE`] after scaling is a load error.
+//!
+//! The scale is the largest power of two, at most 1, with which coordinates stay within
+//! [`Scalar::MAX_EXTENT`] and ambient, emissivity, `diffuse * emissivity` and squared sphere
+//! radii (which scale by `s`, `s`, `s^2` and `s^2`) within [`Scalar::MAX_TERM`]:
+//!
+//! | type | `MAX_EXTENT` | `MAX_TERM` | smallest radius, side or window after scaling |
+//! |---|---|---|---|
+//! | `f64` | 3e150 | 1e300 | 1e-150 |
+//! | `f32` | 1e18 | 1e36 | 1e-18 |
+//! | `I16F16` | 8192 | 16384 | 1/256 |
+//!
+//! The course's scenes (coordinates up to 20, ambient up to 2, diffuse times emissivity up to
+//! 160) need no scaling in any type.
+
+use crate::error::Error;
+use crate::object::ShapeDef;
+use crate::parse::grammar::{Item, walk};
+use crate::scalar::{I16F16, Scalar};
+
+/// The size of a scene: the largest coordinate and the smallest length in it, and the
+/// brightest values that scaling multiplies.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Extent {
+    /// The largest absolute coordinate, a corner or rim included (radius and sizes added).
+    pub largest: f64,
+    /// The smallest radius, rectangle side or world-window side.
+    pub smallest: f64,
+    /// The largest ambient component.
+    pub ambient: f64,
+    /// The largest diffuse component.
+    pub diffuse: f64,
+    /// The largest emissivity component.
+    pub emission: f64,
+    /// The largest sphere radius (its square is kept).
+    pub radius: f64,
+}
+
+impl Extent {
+    /// No scene at all.
+    pub const EMPTY: Extent = Extent {
+        largest: 0.0,
+        smallest: f64::INFINITY,
+        ambient: 0.0,
+        diffuse: 0.0,
+        emission: 0.0,
+        radius: 0.0,
+    };
+
+    fn brightest(values: [f64; 3]) -> f64 {
+        values.iter().fold(0.0, |m: f64, v| m.max(libm::fabs(*v)))
+    }
+
+    fn point(&mut self, p: [f64; 3], reach: f64) {
+        for c in p {
+            self.largest = self.largest.max(libm::fabs(c) + reach);
+        }
+    }
+
+    fn length(&mut self, l: f64) {
+        self.smallest = self.smallest.min(l);
+    }
+
+    /// Takes one definition into account.
+    pub(crate) fn include(&mut self, item: &Item<'_>) {
+        match item {
+            Item::Camera(c) => {
+                self.point(c.viewpoint, 0.0);
+                self.point([c.worlddim[0], c.worlddim[1], 0.0], 0.0);
+                c.worlddim.iter().for_each(|&w| self.length(w));
+            }
+            Item::Light(l) => {
+                self.point(l.location, 0.0);
+                self.emission = self.emission.max(Self::brightest(l.emissivity));
+                if let Some(spot) = &l.spot {
+                    self.point(spot.point, 0.0);
+                }
+            }
+            Item::Material(m) => {
+                self.ambient = self.ambient.max(Self::brightest(m.ambient));
+                self.diffuse = self.diffuse.max(Self::brightest(m.diffuse));
+            }
+            Item::Texture { .. } => {}
+            Item::Object(o) => match &o.shape {
+                ShapeDef::Plane(p) => self.point(p.point, 0.0),
+                ShapeDef::Sphere(s) => {
+                    self.point(s.center, s.radius);
+                    self.length(s.radius);
+                    self.radius = self.radius.max(s.radius);
+                }
+                ShapeDef::FPlane(r) | ShapeDef::TiledPlane(r, _) | ShapeDef::TexPlane(r, _, _) => {
+                    self.point(r.point, r.dimensions[0] + r.dimensions[1]);
+                    r.dimensions.iter().for_each(|&d| self.length(d));
+                }
+            },
+        }
+    }
+
+    /// The largest power of two, at most 1, that brings the scene within `S`'s range:
+    /// coordinates up to [`Scalar::MAX_EXTENT`], and the scaled ambient (`* s`), diffuse
+    /// light (`diffuse * emissivity * s^2`), glint emission (`emissivity * s`) and squared
+    /// radii (`(r s)^2`) up to [`Scalar::MAX_TERM`].
+    pub fn scale_for<S: Scalar>(&self) -> f64 {
+        // Products are formed as (a s)(b s): no intermediate overflows.
+        let fits = |s: f64| {
+            self.largest * s <= S::MAX_EXTENT
+                && self.ambient * s <= S::MAX_TERM
+                && (self.diffuse * s) * (self.emission * s) <= S::MAX_TERM
+                && self.emission * s <= S::MAX_TERM
+                && (self.radius * s) * (self.radius * s) <= S::MAX_TERM
+        };
+        let mut scale = 1.0;
+        // The smallest normal f64 is 2^-1022: a scene that needs more is refused at load, by
+        // the value that does not fit.
+        for _ in 0..1022 {
+            if fits(scale) {
+                break;
+            }
+            scale *= 0.5;
+        }
+        scale
+    }
+
+    /// Whether every length stays at or above `S`'s resolution once scaled.
+    pub fn fits<S: Scalar>(&self) -> bool {
+        self.smallest == f64::INFINITY || self.smallest * self.scale_for::<S>() >= S::MIN_FEATURE
+    }
+}
+
+/// Measures a scene file (without loading textures).
+pub fn scene_extent(text: &[u8]) -> Result<Extent, Error> {
+    let mut extent = Extent::EMPTY;
+    walk(text, |item| {
+        extent.include(&item);
+        Ok(())
+    })?;
+    Ok(extent)
+}
+
+/// The number types microray computes in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NumberType {
+    /// `f64`: the reference.
+    F64,
+    /// `f32`: hardware on Cortex-M4F/M7.
+    F32,
+    /// Q16.16 fixed point: integer-only, for cores without a floating-point unit.
+    I16F16,
+}
+
+impl NumberType {
+    /// The name used on the command line.
+    pub const fn name(self) -> &'static str {
+        match self {
+            NumberType::F64 => f64::NAME,
+            NumberType::F32 => f32::NAME,
+            NumberType::I16F16 => I16F16::NAME,
+        }
+    }
+}
+
+/// What a build runs on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Target {
+    /// A desktop or server processor: 64-bit floats in hardware.
+    Host,
+    /// A microcontroller with a single-precision FPU (Cortex-M4F, M7, ESP32-S3).
+    SinglePrecisionFpu,
+    /// A microcontroller without an FPU (Cortex-M0/M0+, RP2040, ESP32-C3).
+    NoFpu,
+}
+
+/// The widest number type that fits the scene and is fast on the target: `f64` on a host,
+/// `f32` with a single-precision FPU, and without one `I16F16` when the scene's smallest
+/// features survive its resolution, else `f32` (soft float: slower, but it fits).
+///
+/// ```
+/// use microray::range::{choose_number_type, NumberType, Target};
+///
+/// let scene = b"camera c { pixeldim 64 48 worlddim 8 6 viewpoint 4 3 3 }
+///               material m { diffuse 1 1 1 }
+///               sphere s { material m center 4 3 -5 radius 1 }";
+/// assert_eq!(choose_number_type(scene, Target::NoFpu)?, NumberType::I16F16);
+/// let tiny = b"camera c { pixeldim 64 48 worlddim 8 6 viewpoint 4 3 3 }
+///              material m { diffuse 1 1 1 }
+///              sphere s { material m center 4 3 -5 radius 0.001 }";
+/// assert_eq!(choose_number_type(tiny, Target::NoFpu)?, NumberType::F32);
+/// # Ok::<(), microray::Error>(())
+/// ```
+pub fn choose_number_type(text: &[u8], target: Target) -> Result<NumberType, Error> {
+    let extent = scene_extent(text)?;
+    Ok(match target {
+        Target::Host => NumberType::F64,
+        Target::SinglePrecisionFpu => NumberType::F32,
+        Target::NoFpu if extent.fits::<I16F16>() => NumberType::I16F16,
+        Target::NoFpu => NumberType::F32,
+    })
+}

@@ -9,6 +9,7 @@
 //! | `+`, `-`, negation | `i32` saturating | exact, or saturated at ±32768 |
 //! | `*` | 32x32 -> 64-bit product, shift, saturate | truncated toward -inf: equal to the crate's `saturating_mul` |
 //! | `/` | 64-bit dividend by 32-bit divisor, saturate | truncated toward 0: equal to the crate's `saturating_div`; `x / 0` is ±MAX (0 for 0 / 0) |
+//! | [`Scalar::div_vec`], [`Scalar::recip`] | one 32-bit reciprocal of the divisor (rounded up), then multiplies | within one step of the exact quotient: one division per vector instead of three |
 //! | [`Scalar::dot`] | three 64-bit products summed, one shift | one truncation instead of three; no intermediate overflow |
 //! | [`Scalar::length`] | 64-bit sum of squares, integer square root | floor of the exact length; no overflow below 2^31 |
 //! | `sqrt` | integer square root of `bits << 16` | floor of the exact root |
@@ -51,6 +52,24 @@ impl I16F16 {
     #[inline]
     fn saturate(wide: i64) -> Self {
         Self::from_bits(wide.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32)
+    }
+
+    /// `d` as a 32-bit reciprocal `r` and a shift: `x * 2^16 / d = (|x| * r) >> shift`, with
+    /// the sign apart. `None` for zero.
+    #[inline]
+    fn reciprocal_parts(d: Self) -> Option<(u64, u32, bool)> {
+        let bits = d.to_bits();
+        let magnitude = bits.unsigned_abs();
+        if magnitude == 0 {
+            return None;
+        }
+        // d = m * 2^e with m in [2^31, 2^32); r = ceil(2^63 / m) in (2^31, 2^32]. Rounding up
+        // keeps the truncated quotient from falling a step below the exact one.
+        let zeros = magnitude.leading_zeros();
+        let m = u64::from(magnitude) << zeros;
+        let reciprocal = ((1u64 << 63) + m - 1) / m;
+        // x 2^16 / d = x 2^16 r / (2^63 2^e), e = -zeros: shift = 47 - zeros.
+        Some((reciprocal, 47 - zeros, bits < 0))
     }
 
     /// `log2(self)` as a Q8.24 number, for `self > 0` (bit-by-bit squaring: 24 bits, each
@@ -247,6 +266,30 @@ impl Scalar for I16F16 {
             .saturating_add(p(a.z, b.z));
         Self::saturate(sum >> FRAC)
     }
+    /// One reciprocal and three multiplies instead of three divisions: `1 / d` to 32
+    /// significant bits (2^63 over `d` normalised to 32 bits, rounded up), so each quotient
+    /// is within one step of the exact one (tested on random operands).
+    #[inline]
+    fn div_vec(v: Vec3<Self>, d: Self) -> Vec3<Self> {
+        let Some((reciprocal, shift, negative)) = Self::reciprocal_parts(d) else {
+            return Vec3::new(v.x / d, v.y / d, v.z / d);
+        };
+        let divide = |x: Self| {
+            let bits = x.to_bits();
+            let magnitude = (u64::from(bits.unsigned_abs()) * reciprocal) >> shift;
+            let magnitude = i64::try_from(magnitude).unwrap_or(i64::MAX);
+            Self::saturate(if (bits < 0) != negative {
+                -magnitude
+            } else {
+                magnitude
+            })
+        };
+        Vec3::new(divide(v.x), divide(v.y), divide(v.z))
+    }
+    #[inline]
+    fn recip(self) -> Self {
+        Self::div_vec(Vec3::new(Self::ONE, Self::ZERO, Self::ZERO), self).x
+    }
     #[inline]
     fn length(v: Vec3<Self>) -> Self {
         let square = |x: Self| {
@@ -304,6 +347,17 @@ mod tests {
             Vec3::new(fx(3000.0), fx(4000.0), fx(0.0)).length(),
             fx(5000.0)
         );
+    }
+
+    #[test]
+    fn reciprocals_at_the_extremes() {
+        assert_eq!(fx(2.0).recip(), fx(0.5));
+        assert_eq!(fx(-4.0).recip(), fx(-0.25));
+        assert_eq!(I16F16::ZERO.recip(), I16F16::MAX);
+        assert_eq!(I16F16::from_bits(1).recip(), I16F16::MAX);
+        assert_eq!(I16F16::MAX.recip().to_bits(), 2);
+        assert_eq!(I16F16::MIN.recip().to_bits(), -2);
+        assert_eq!(fx(3.0).recip().to_bits(), 65536 / 3);
     }
 
     #[test]
@@ -386,6 +440,22 @@ mod tests {
             let exact = a.to_f64().dot(a.to_f64()).sqrt();
             if exact < 32767.0 {
                 prop_assert!(length <= exact && exact - length < 1.0 / 65536.0, "{} vs {}", length, exact);
+            }
+        }
+
+        #[test]
+        fn vector_division_is_within_one_step_of_exact(x: i32, y: i32, d: i32) {
+            prop_assume!(d != 0);
+            let (vx, vy, vd) = (I16F16::from_bits(x), I16F16::from_bits(y), I16F16::from_bits(d));
+            let q = Vec3::new(vx, vy, I16F16::ZERO) / vd;
+            for (got, num) in [(q.x, x), (q.y, y)] {
+                let exact = f64::from(num) * 65536.0 / f64::from(d);
+                if exact.abs() < 2147483647.0 {
+                    let error = (f64::from(got.to_bits()) - exact).abs();
+                    prop_assert!(error < 1.0, "{} / {}: {} vs {}", num, d, got.to_bits(), exact);
+                } else {
+                    prop_assert!(got == I16F16::MAX || got == I16F16::MIN);
+                }
             }
         }
 

@@ -110,6 +110,11 @@ pub trait Scalar:
     fn div_vec(v: Vec3<Self>, d: Self) -> Vec3<Self> {
         Vec3::new(v.x / d, v.y / d, v.z / d)
     }
+    /// `1 / self`.
+    #[inline]
+    fn recip(self) -> Self {
+        Self::ONE / self
+    }
 
     /// The absolute value.
     #[inline]

@@ -67,7 +67,7 @@ impl I16F16 {
         // keeps the truncated quotient from falling a step below the exact one.
         let zeros = magnitude.leading_zeros();
         let m = u64::from(magnitude) << zeros;
-        let reciprocal = ((1u64 << 63) + m - 1) / m;
+        let reciprocal = (1u64 << 63).div_ceil(m);
         // x 2^16 / d = x 2^16 r / (2^63 2^e), e = -zeros: shift = 47 - zeros.
         Some((reciprocal, 47 - zeros, bits < 0))
     }

@@ -84,6 +84,40 @@ impl<S: Scalar> Camera<S> {
         })
     }
 
+    /// A stand-in until the scene's camera is set: 2 by 2 pixels, a unit window.
+    pub(crate) const PLACEHOLDER: Self = Self {
+        name: Name::new(),
+        width: 2,
+        height: 2,
+        world: [S::ONE, S::ONE],
+        viewpoint: Vec3::new(S::ZERO, S::ZERO, S::ONE),
+    };
+
+    /// The same camera with another image size (the world window stays: the same picture at
+    /// another resolution).
+    pub(crate) fn with_pixels(
+        &self,
+        width: u16,
+        height: u16,
+        max_width: usize,
+    ) -> Result<Self, ErrorKind> {
+        if width < 2 || height < 2 {
+            return Err(ErrorKind::PixeldimTooSmall);
+        }
+        if usize::from(width) > max_width {
+            let max = u32::try_from(max_width).unwrap_or(u32::MAX);
+            return Err(ErrorKind::ImageTooWide {
+                width: u32::from(width),
+                max,
+            });
+        }
+        Ok(Self {
+            width,
+            height,
+            ..self.clone()
+        })
+    }
+
     /// The camera's name.
     pub fn name(&self) -> &str {
         &self.name

@@ -85,6 +85,6 @@ pub use material::{Material, MaterialDef};
 pub use object::{Hit, Object, ObjectDef, ObjectVTable};
 pub use ray::Ray;
 pub use scalar::Scalar;
-pub use scene::{Scene, SceneBuilder};
+pub use scene::Scene;
 pub use texture::{Texture, TextureDef};
 pub use vec3::Vec3;

@@ -19,10 +19,13 @@ use heapless::Vec;
 /// The default widest image: the renderer keeps one row of this many pixels.
 pub const DEFAULT_MAX_WIDTH: usize = 1024;
 
-/// A checked scene. Build one with [`SceneBuilder`], [`Scene::from_defs`] or the parser.
+/// A checked scene, built in place: [`Scene::new`] with a camera, then `add_*` for each part,
+/// checking each as it comes (no second copy of the scene is ever needed, which matters on a
+/// microcontroller's stack). Or [`Scene::from_defs`], or the parser.
 ///
 /// `'t` is the lifetime of texture bytes; the capacities are `OBJECTS`, `MATERIALS`,
-/// `LIGHTS`, `TEXTURES` and the widest image `MAX_WIDTH`.
+/// `LIGHTS`, `TEXTURES` and the widest image `MAX_WIDTH`. Materials and textures must be
+/// added before the objects that name them, as in the files.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene<
     't,
@@ -34,27 +37,6 @@ pub struct Scene<
     const MAX_WIDTH: usize = DEFAULT_MAX_WIDTH,
 > {
     camera: Camera<S>,
-    materials: Vec<Material<S>, MATERIALS>,
-    lights: Vec<Light<S>, LIGHTS>,
-    textures: Vec<Texture<'t>, TEXTURES>,
-    objects: Vec<Object<S>, OBJECTS>,
-    scale: f64,
-}
-
-/// Collects a scene's parts, checking each as it comes; [`build`](Self::build) needs a camera.
-///
-/// Materials and textures must be added before the objects that name them, as in the files.
-#[derive(Clone, Debug)]
-pub struct SceneBuilder<
-    't,
-    S: Scalar,
-    const OBJECTS: usize = 32,
-    const MATERIALS: usize = 16,
-    const LIGHTS: usize = 8,
-    const TEXTURES: usize = 16,
-    const MAX_WIDTH: usize = DEFAULT_MAX_WIDTH,
-> {
-    camera: Option<Camera<S>>,
     materials: Vec<Material<S>, MATERIALS>,
     lights: Vec<Light<S>, LIGHTS>,
     textures: Vec<Texture<'t>, TEXTURES>,
@@ -77,53 +59,50 @@ impl<
     const LIGHTS: usize,
     const TEXTURES: usize,
     const MAX_WIDTH: usize,
-> Default for SceneBuilder<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>
+> Scene<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>
 {
-    fn default() -> Self {
-        Self::new()
-    }
-}
-
-impl<
-    't,
-    S: Scalar,
-    const OBJECTS: usize,
-    const MATERIALS: usize,
-    const LIGHTS: usize,
-    const TEXTURES: usize,
-    const MAX_WIDTH: usize,
-> SceneBuilder<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>
-{
-    /// An empty builder for a scene used as written (scale 1).
-    pub const fn new() -> Self {
-        Self::with_scale(1.0)
+    /// An empty scene with a camera. Every length is multiplied by `scale`, a power of two
+    /// (see [`crate::range`]; [`Extent::scale_for`] chooses it, 1 uses the scene as written).
+    pub fn new(camera: &CameraDef<'_>, scale: f64) -> Result<Self, ErrorKind> {
+        let mut scene = Self::empty();
+        scene.clear(scale);
+        scene.set_camera(camera)?;
+        Ok(scene)
     }
 
-    /// An empty builder that multiplies every length by `scale` (see [`crate::range`]);
-    /// use [`Extent::scale_for`](crate::range::Extent::scale_for) to choose it. Anything but
-    /// a power of two changes the image by rounding.
-    pub const fn with_scale(scale: f64) -> Self {
+    /// An empty scene with a stand-in camera (2 by 2 pixels): the place to parse or load
+    /// into ([`crate::parse::parse_scene_into`], [`Scene::load_defs`]) on a microcontroller,
+    /// where the scene is built in place instead of returned.
+    pub const fn empty() -> Self {
         Self {
-            camera: None,
+            camera: Camera::PLACEHOLDER,
             materials: Vec::new(),
             lights: Vec::new(),
             textures: Vec::new(),
             objects: Vec::new(),
-            scale,
+            scale: 1.0,
         }
     }
 
-    /// Sets the camera; a second one is an error.
-    pub fn camera(&mut self, def: &CameraDef<'_>) -> Result<(), ErrorKind> {
-        if self.camera.is_some() {
-            return Err(ErrorKind::SecondCamera);
-        }
-        self.camera = Some(Camera::build(def, MAX_WIDTH, self.scale)?);
+    /// Empties the scene and sets the scale for what is added next; the camera becomes the
+    /// stand-in until [`set_camera`](Self::set_camera).
+    pub(crate) fn clear(&mut self, scale: f64) {
+        self.camera = Camera::PLACEHOLDER;
+        self.materials.clear();
+        self.lights.clear();
+        self.textures.clear();
+        self.objects.clear();
+        self.scale = scale;
+    }
+
+    /// Replaces the camera.
+    pub(crate) fn set_camera(&mut self, def: &CameraDef<'_>) -> Result<(), ErrorKind> {
+        self.camera = Camera::build(def, MAX_WIDTH, self.scale)?;
         Ok(())
     }
 
     /// Adds a material; its name must be new.
-    pub fn material(&mut self, def: &MaterialDef<'_>) -> Result<(), ErrorKind> {
+    pub fn add_material(&mut self, def: &MaterialDef<'_>) -> Result<(), ErrorKind> {
         if self.find_material(def.name).is_some() {
             return Err(ErrorKind::DuplicateName {
                 entity: Entity::Material,
@@ -140,7 +119,7 @@ impl<
     }
 
     /// Adds a light or spotlight.
-    pub fn light(&mut self, def: &LightDef<'_>) -> Result<(), ErrorKind> {
+    pub fn add_light(&mut self, def: &LightDef<'_>) -> Result<(), ErrorKind> {
         if self.lights.is_full() {
             return Err(capacity_error(Collection::Lights, LIGHTS));
         }
@@ -151,7 +130,7 @@ impl<
     }
 
     /// Adds a texture, decoding its PPM bytes; its name must be new.
-    pub fn texture(&mut self, def: &TextureDef<'_, 't>) -> Result<(), ErrorKind> {
+    pub fn add_texture(&mut self, def: &TextureDef<'_, 't>) -> Result<(), ErrorKind> {
         if self.find_texture(def.name).is_some() {
             return Err(ErrorKind::DuplicateName {
                 entity: Entity::Texture,
@@ -168,7 +147,7 @@ impl<
     }
 
     /// Adds an object; the materials and texture it names must already be there.
-    pub fn object(&mut self, def: &ObjectDef<'_>) -> Result<(), ErrorKind> {
+    pub fn add_object(&mut self, def: &ObjectDef<'_>) -> Result<(), ErrorKind> {
         if self.objects.is_full() {
             return Err(capacity_error(Collection::Objects, OBJECTS));
         }
@@ -183,20 +162,6 @@ impl<
             .map_err(|_| capacity_error(Collection::Objects, OBJECTS))
     }
 
-    /// The finished scene; it must have a camera.
-    pub fn build(
-        self,
-    ) -> Result<Scene<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>, ErrorKind> {
-        Ok(Scene {
-            camera: self.camera.ok_or(ErrorKind::NoCamera)?,
-            materials: self.materials,
-            lights: self.lights,
-            textures: self.textures,
-            objects: self.objects,
-            scale: self.scale,
-        })
-    }
-
     fn find_material(&self, name: &str) -> Option<MaterialId> {
         let index = self.materials.iter().position(|m| m.name() == name)?;
         MaterialId::try_from(index).ok()
@@ -206,20 +171,10 @@ impl<
         let index = self.textures.iter().position(|t| t.name() == name)?;
         u16::try_from(index).ok()
     }
-}
 
-impl<
-    't,
-    S: Scalar,
-    const OBJECTS: usize,
-    const MATERIALS: usize,
-    const LIGHTS: usize,
-    const TEXTURES: usize,
-    const MAX_WIDTH: usize,
-> Scene<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>
-{
     /// A scene from definitions in Rust source, for firmware that embeds its scene without
-    /// the parser. Errors carry no position.
+    /// the parser, scaled into `S`'s range as the parser would. Errors carry no position.
+    /// [`load_defs`](Self::load_defs) does the same in place.
     ///
     /// ```
     /// use microray::{CameraDef, LightDef, MaterialDef, ObjectDef, Scene};
@@ -241,27 +196,52 @@ impl<
         lights: &[LightDef<'_>],
         objects: &[ObjectDef<'_>],
     ) -> Result<Self, Error> {
+        let mut scene = Self::empty();
+        scene.load_defs(camera, materials, textures, lights, objects)?;
+        Ok(scene)
+    }
+
+    /// [`from_defs`](Self::from_defs) into this scene, emptied first: no second copy of the
+    /// scene anywhere.
+    pub fn load_defs(
+        &mut self,
+        camera: &CameraDef<'_>,
+        materials: &[MaterialDef<'_>],
+        textures: &[TextureDef<'_, 't>],
+        lights: &[LightDef<'_>],
+        objects: &[ObjectDef<'_>],
+    ) -> Result<(), Error> {
         let mut extent = Extent::EMPTY;
         extent.include(&Item::Camera(*camera));
+        materials
+            .iter()
+            .for_each(|m| extent.include(&Item::Material(*m)));
         lights.iter().for_each(|l| extent.include(&Item::Light(*l)));
         objects
             .iter()
             .for_each(|o| extent.include(&Item::Object(*o)));
-        let mut builder = SceneBuilder::with_scale(extent.scale_for::<S>());
-        builder.camera(camera)?;
+        self.clear(extent.scale_for::<S>());
+        self.set_camera(camera)?;
         for def in materials {
-            builder.material(def)?;
+            self.add_material(def)?;
         }
         for def in textures {
-            builder.texture(def)?;
+            self.add_texture(def)?;
         }
         for def in lights {
-            builder.light(def)?;
+            self.add_light(def)?;
         }
         for def in objects {
-            builder.object(def)?;
+            self.add_object(def)?;
         }
-        Ok(builder.build()?)
+        Ok(())
+    }
+
+    /// Renders the same picture at another resolution: the camera's `pixeldim` becomes
+    /// `width` by `height`, its world window stays. Errors as for `pixeldim` in a file.
+    pub fn set_resolution(&mut self, width: u16, height: u16) -> Result<(), ErrorKind> {
+        self.camera = self.camera.with_pixels(width, height, MAX_WIDTH)?;
+        Ok(())
     }
 
     /// The camera.
@@ -322,29 +302,28 @@ mod tests {
 
     #[test]
     fn capacities_are_errors() {
-        let mut b: SceneBuilder<'_, f32, 1, 1, 1, 0, 64> = SceneBuilder::new();
-        b.camera(&CAMERA).unwrap();
-        assert_eq!(b.camera(&CAMERA), Err(ErrorKind::SecondCamera));
-        b.material(&MaterialDef::new("m")).unwrap();
+        let mut b: Scene<'_, f32, 1, 1, 1, 0, 64> = Scene::new(&CAMERA, 1.0).unwrap();
+        b.add_material(&MaterialDef::new("m")).unwrap();
         assert_eq!(
-            b.material(&MaterialDef::new("n")),
+            b.add_material(&MaterialDef::new("n")),
             Err(ErrorKind::CapacityExceeded {
                 what: Collection::Materials,
                 capacity: 1
             })
         );
-        b.light(&LightDef::point("l", [0.0; 3], [1.0; 3])).unwrap();
+        b.add_light(&LightDef::point("l", [0.0; 3], [1.0; 3]))
+            .unwrap();
         assert_eq!(
-            b.light(&LightDef::point("l", [0.0; 3], [1.0; 3])),
+            b.add_light(&LightDef::point("l", [0.0; 3], [1.0; 3])),
             Err(ErrorKind::CapacityExceeded {
                 what: Collection::Lights,
                 capacity: 1
             })
         );
-        b.object(&ObjectDef::sphere("s", "m", [0.0, 0.0, -5.0], 1.0))
+        b.add_object(&ObjectDef::sphere("s", "m", [0.0, 0.0, -5.0], 1.0))
             .unwrap();
         assert_eq!(
-            b.object(&ObjectDef::sphere("s", "m", [0.0, 0.0, -5.0], 1.0)),
+            b.add_object(&ObjectDef::sphere("s", "m", [0.0, 0.0, -5.0], 1.0)),
             Err(ErrorKind::CapacityExceeded {
                 what: Collection::Objects,
                 capacity: 1
@@ -354,9 +333,8 @@ mod tests {
 
     #[test]
     fn image_wider_than_the_row_buffer() {
-        let mut b: SceneBuilder<'_, f32, 1, 1, 1, 0, 63> = SceneBuilder::new();
         assert_eq!(
-            b.camera(&CAMERA),
+            Scene::<'_, f32, 1, 1, 1, 0, 63>::new(&CAMERA, 1.0).map(|_| ()),
             Err(ErrorKind::ImageTooWide { width: 64, max: 63 })
         );
     }
@@ -415,19 +393,18 @@ mod tests {
 
     #[test]
     fn undefined_and_duplicate_names() {
-        let mut b: SceneBuilder<'_, f64> = SceneBuilder::new();
-        b.material(&MaterialDef::new("m")).unwrap();
+        let mut b: Scene<'_, f64> = Scene::new(&CAMERA, 1.0).unwrap();
+        b.add_material(&MaterialDef::new("m")).unwrap();
         assert!(matches!(
-            b.material(&MaterialDef::new("m")),
+            b.add_material(&MaterialDef::new("m")),
             Err(ErrorKind::DuplicateName { .. })
         ));
         let err = b
-            .object(&ObjectDef::sphere("s", "nope", [0.0; 3], 1.0))
+            .add_object(&ObjectDef::sphere("s", "nope", [0.0; 3], 1.0))
             .unwrap_err();
         assert_eq!(
             err.to_string(),
             "undefined material `nope` (materials must be defined before the objects that use them)"
         );
-        assert_eq!(b.build(), Err(ErrorKind::NoCamera));
     }
 }

@@ -55,7 +55,7 @@ fn check_rejects_malformed_files_with_position_and_exit_1() {
         ("typo.txt", b"camera c { pixeldim 64 48 worlddim 8 6 viewpoint 4 3 3 }\nsphere s {\n  material m center 0 0 -5 radius 1 }\n", "typo.txt:3:12: error: undefined material `m`"),
         ("braces.txt", &[b'{'; 20_000], "braces.txt:1:1: error: expected an entity"),
         ("binary.txt", b"\x7fELF\x02\x01\x01\x00\x00", "binary.txt:1:1: error: invalid character 0x7f"),
-        ("texture.txt", b"texture t { filename missing.ppm }", "texture.txt:1:22: error: texture file `missing.ppm`: file not found"),
+        ("texture.txt", b"camera c { pixeldim 64 48 worlddim 8 6 viewpoint 4 3 3 }\ntexture t { filename missing.ppm }", "texture.txt:2:22: error: texture file `missing.ppm`: file not found"),
     ];
     for (name, contents, expected) in cases {
         let path = dir.join(name);

@@ -10,7 +10,7 @@ use crate::name::{NAME_CAPACITY, PATH_CAPACITY};
 use crate::object::{ObjectDef, PlaneDef, RectDef, ShapeDef, SphereDef, TextureMode};
 use crate::range::Extent;
 use crate::scalar::Scalar;
-use crate::scene::{Scene, SceneBuilder};
+use crate::scene::Scene;
 use crate::texture::TextureDef;
 use nom::branch::alt;
 use nom::bytes::complete::{tag, take_till, take_till1, take_while1};
@@ -246,28 +246,9 @@ pub(crate) fn walk<'i>(
     Ok(())
 }
 
-pub(super) fn parse<
-    't,
-    S: Scalar,
-    const OBJECTS: usize,
-    const MATERIALS: usize,
-    const LIGHTS: usize,
-    const TEXTURES: usize,
-    const MAX_WIDTH: usize,
->(
-    text: &[u8],
-    textures: impl FnMut(&str) -> Result<&'t [u8], TextureError>,
-) -> Result<Scene<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>, Error> {
-    // First pass: how large the scene is, so that it can be scaled into the type's range.
-    let mut extent = Extent::EMPTY;
-    walk(text, |item| {
-        extent.include(&item);
-        Ok(())
-    })?;
-    parse_with_scale(text, textures, extent.scale_for::<S>())
-}
-
-pub(super) fn parse_with_scale<
+/// Parses `text` into `scene` (emptied first), with every length multiplied by `scale`,
+/// or by the scale the number type needs when `None`.
+pub(super) fn parse_into<
     't,
     S: Scalar,
     const OBJECTS: usize,
@@ -278,29 +259,47 @@ pub(super) fn parse_with_scale<
 >(
     text: &[u8],
     mut textures: impl FnMut(&str) -> Result<&'t [u8], TextureError>,
-    scale: f64,
-) -> Result<Scene<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>, Error> {
-    let mut builder = SceneBuilder::with_scale(scale);
+    scale: Option<f64>,
+    scene: &mut Scene<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>,
+) -> Result<(), Error> {
+    // First pass: how large the scene is, so that it can be scaled into the type's range.
+    let mut extent = Extent::EMPTY;
+    walk(text, |item| {
+        extent.include(&item);
+        Ok(())
+    })?;
+    // Second pass: the scene, built in place; its camera is set when the block is reached,
+    // wherever it is in the file, and there must be exactly one.
+    scene.clear(scale.unwrap_or_else(|| extent.scale_for::<S>()));
+    let mut cameras = 0;
     walk(text, |item| match item {
-        Item::Camera(def) => builder.camera(&def),
-        Item::Material(def) => builder.material(&def),
-        Item::Light(def) => builder.light(&def),
-        Item::Object(def) => builder.object(&def),
+        Item::Camera(_) if cameras > 0 => Err(ErrorKind::SecondCamera),
+        Item::Camera(def) => {
+            cameras += 1;
+            scene.set_camera(&def)
+        }
+        Item::Material(def) => scene.add_material(&def),
+        Item::Light(def) => scene.add_light(&def),
+        Item::Object(def) => scene.add_object(&def),
         Item::Texture { name, filename } => {
             let ppm = textures(filename).map_err(|error| ErrorKind::Texture {
                 file: Snippet::new(filename.as_bytes()),
                 error,
             })?;
-            builder.texture(&TextureDef {
+            scene.add_texture(&TextureDef {
                 name,
                 filename,
                 ppm,
             })
         }
     })?;
-    builder
-        .build()
-        .map_err(|kind| Error::at(kind, Position::of_offset(text, text.len())))
+    if cameras == 0 {
+        return Err(Error::at(
+            ErrorKind::NoCamera,
+            Position::of_offset(text, text.len()),
+        ));
+    }
+    Ok(())
 }
 
 fn parse_block<'i>(

@@ -31,7 +31,37 @@ pub fn parse_scene<
     text: &[u8],
     textures: impl FnMut(&str) -> Result<&'t [u8], TextureError>,
 ) -> Result<Scene<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>, Error> {
-    grammar::parse(text, textures)
+    let mut scene = Scene::empty();
+    grammar::parse_into(text, textures, None, &mut scene)?;
+    Ok(scene)
+}
+
+/// Parses scene text into an existing scene, emptied first, without a second copy of the
+/// scene anywhere: what a microcontroller with little stack wants. On error the scene is
+/// left empty or partly filled; parse again before rendering it.
+///
+/// ```
+/// use microray::{parse::{no_textures, parse_scene_into}, Scene};
+///
+/// let mut scene: Scene<f32, 4, 4, 2, 0, 160> = Scene::empty();
+/// parse_scene_into(b"camera c { pixeldim 8 6 worlddim 8 6 viewpoint 4 3 3 }", no_textures, &mut scene)?;
+/// assert_eq!(scene.camera().width(), 8);
+/// # Ok::<(), microray::Error>(())
+/// ```
+pub fn parse_scene_into<
+    't,
+    S: Scalar,
+    const OBJECTS: usize,
+    const MATERIALS: usize,
+    const LIGHTS: usize,
+    const TEXTURES: usize,
+    const MAX_WIDTH: usize,
+>(
+    text: &[u8],
+    textures: impl FnMut(&str) -> Result<&'t [u8], TextureError>,
+    scene: &mut Scene<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>,
+) -> Result<(), Error> {
+    grammar::parse_into(text, textures, None, scene)
 }
 
 /// Parses scene text with every length multiplied by `scale` (see [`crate::range`]), instead
@@ -50,7 +80,9 @@ pub fn parse_scene_with_scale<
     textures: impl FnMut(&str) -> Result<&'t [u8], TextureError>,
     scale: f64,
 ) -> Result<Scene<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>, Error> {
-    grammar::parse_with_scale(text, textures, scale)
+    let mut scene = Scene::empty();
+    grammar::parse_into(text, textures, Some(scale), &mut scene)?;
+    Ok(scene)
 }
 
 /// A texture resolver for scenes without textures: every file is "not found".

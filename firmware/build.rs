@@ -1,0 +1,113 @@
+//! Chooses the machine's memory layout and embeds the scenes (course scenes from
+//! `MICRORAY_CONFORMANCE`, default `../../shared/conformance`, and the project's own) with
+//! their textures, as `include_str!`/`include_bytes!` of their files.
+
+use std::env;
+use std::fmt::Write as _;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+fn main() {
+    let out = PathBuf::from(env::var("OUT_DIR").unwrap());
+    let manifest = PathBuf::from(env::var("CARGO_MANIFEST_DIR").unwrap());
+    let microbit = env::var_os("CARGO_FEATURE_MICROBIT").is_some();
+    let memory = if microbit {
+        // nRF51822: 256 KiB flash, 16 KiB RAM.
+        "MEMORY { FLASH : ORIGIN = 0x00000000, LENGTH = 256K\n RAM : ORIGIN = 0x20000000, LENGTH = 16K }\n"
+    } else {
+        // MPS2 AN386: 4 MiB SSRAM1 for code, 4 MiB SSRAM2/3 for data.
+        "MEMORY { FLASH : ORIGIN = 0x00000000, LENGTH = 4M\n RAM : ORIGIN = 0x20000000, LENGTH = 4M }\n"
+    };
+    fs::write(out.join("memory.x"), memory).unwrap();
+    println!("cargo:rustc-link-search={}", out.display());
+    println!("cargo:rerun-if-changed=build.rs");
+    println!("cargo:rerun-if-env-changed=MICRORAY_CONFORMANCE");
+    println!("cargo:rerun-if-env-changed=MICRORAY_FW_SIZE");
+
+    let size = env::var("MICRORAY_FW_SIZE").unwrap_or_else(|_| "160x120".into());
+    let (width, height) = size
+        .split_once('x')
+        .expect("MICRORAY_FW_SIZE is WIDTHxHEIGHT");
+
+    let conformance = env::var_os("MICRORAY_CONFORMANCE")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| manifest.join("../../shared/conformance"));
+    let conformance = if conformance.is_relative() {
+        manifest.join("..").join(conformance)
+    } else {
+        conformance
+    };
+    let mut files = Vec::new();
+    collect(&conformance, &mut files);
+    collect(&manifest.join("../scenes"), &mut files);
+    collect(&manifest.join("../tests/scenes"), &mut files);
+
+    // The micro:bit's 256 KiB of flash cannot hold the course's photographs (192 and 432 KiB).
+    let texture_budget = if microbit { 16 * 1024 } else { usize::MAX };
+    let mut table = String::from("pub const SCENES: &[SceneFile] = &[\n");
+    let mut skipped = String::from("pub const SKIPPED: &[&str] = &[\n");
+    for path in files {
+        let name = path.file_stem().unwrap().to_str().unwrap().to_string();
+        let text = fs::read_to_string(&path).unwrap();
+        let textures = texture_files(&text, path.parent().unwrap());
+        let bytes: usize = textures
+            .iter()
+            .map(|(_, p)| fs::metadata(p).map(|m| m.len() as usize).unwrap_or(0))
+            .sum();
+        if bytes > texture_budget {
+            writeln!(skipped, "    {name:?},").unwrap();
+            continue;
+        }
+        println!("cargo:rerun-if-changed={}", path.display());
+        write!(
+            table,
+            "    SceneFile {{ name: {name:?}, text: include_str!({:?}), textures: &[",
+            path.display().to_string()
+        )
+        .unwrap();
+        for (written, file) in &textures {
+            write!(
+                table,
+                "({written:?}, include_bytes!({:?})), ",
+                file.display().to_string()
+            )
+            .unwrap();
+        }
+        table.push_str("] },\n");
+    }
+    table.push_str("];\n");
+    skipped.push_str("];\n");
+    let generated = format!(
+        "pub const WIDTH: u16 = {width};\npub const HEIGHT: u16 = {height};\n{table}{skipped}"
+    );
+    fs::write(out.join("scenes.rs"), generated).unwrap();
+}
+
+fn collect(dir: &Path, files: &mut Vec<PathBuf>) {
+    let Ok(entries) = fs::read_dir(dir) else {
+        return;
+    };
+    let mut found: Vec<PathBuf> = entries.map(|e| e.unwrap().path()).collect();
+    found.sort();
+    for path in found {
+        if path.is_dir() {
+            collect(&path, files);
+        } else if path.extension().is_some_and(|e| e == "txt") {
+            files.push(path.canonicalize().unwrap());
+        }
+    }
+}
+
+/// The `filename` values of a scene and the files they name.
+fn texture_files(text: &str, dir: &Path) -> Vec<(String, PathBuf)> {
+    let mut words = text.split_whitespace();
+    let mut found = Vec::new();
+    while let Some(word) = words.next() {
+        if word == "filename"
+            && let Some(name) = words.next()
+        {
+            found.push((name.to_string(), dir.join(name).canonicalize().unwrap()));
+        }
+    }
+    found
+}

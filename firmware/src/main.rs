@@ -1,0 +1,254 @@
+//! microray on an emulated microcontroller (QEMU mps2-an386 or microbit).
+//!
+//! Renders every embedded scene through the `DrawTarget` path into a target that writes each
+//! row to a file over semihosting (`<scene>.rgb` in QEMU's working directory), and reports on
+//! the semihosting console how deep the stack went. The render of each frame is bracketed by
+//! calls to marker functions (`microray_count_start`, `_stop`, `_frame`) at which the
+//! project's QEMU plugin reads its instruction counter; writing a row stops the count.
+#![no_std]
+#![no_main]
+
+mod static_scene;
+
+use core::ops::ControlFlow;
+use cortex_m_rt::entry;
+use cortex_m_semihosting::{debug, hprintln, syscall};
+use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
+use embedded_graphics::prelude::Point;
+use embedded_graphics::prelude::{DrawTarget, OriginDimensions, Pixel, Size};
+use embedded_graphics::primitives::Rectangle;
+use microray::Scene;
+use microray::error::TextureError;
+use microray::parse::parse_scene_into;
+use microray::render::Renderer;
+use panic_semihosting as _;
+
+#[cfg(feature = "f32")]
+type Number = f32;
+#[cfg(feature = "fixed")]
+type Number = microray::scalar::I16F16;
+
+mod scenes {
+    pub struct SceneFile {
+        pub name: &'static str,
+        pub text: &'static str,
+        pub textures: &'static [(&'static str, &'static [u8])],
+    }
+    include!(concat!(env!("OUT_DIR"), "/scenes.rs"));
+}
+use scenes::{HEIGHT, SCENES, SKIPPED, WIDTH};
+
+/// Capacities that hold every embedded scene; files up to 800 pixels wide load (they are
+/// rendered at `WIDTH` x `HEIGHT`).
+type FirmwareScene = Scene<'static, Number, 6, 8, 4, 1, 800>;
+
+// The markers: the QEMU plugin reads its counters when execution reaches their addresses.
+// Inline assembly is a side effect the compiler keeps, and a different number of NOPs keeps
+// the three from being merged into one address.
+
+/// Counting starts (or resumes after a row was written).
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub extern "C" fn microray_count_start() {
+    cortex_m::asm::nop();
+}
+
+/// Counting pauses.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub extern "C" fn microray_count_stop() {
+    cortex_m::asm::nop();
+    cortex_m::asm::nop();
+}
+
+/// A frame is complete: the plugin reports its count.
+#[unsafe(no_mangle)]
+#[inline(never)]
+pub extern "C" fn microray_count_frame() {
+    cortex_m::asm::nop();
+    cortex_m::asm::nop();
+    cortex_m::asm::nop();
+}
+
+/// A draw target that writes each row, as RGB bytes, to a semihosting file.
+struct RowFile {
+    handle: usize,
+    bytes: [u8; 3 * WIDTH as usize],
+}
+
+impl OriginDimensions for RowFile {
+    fn size(&self) -> Size {
+        Size::new(u32::from(WIDTH), u32::from(HEIGHT))
+    }
+}
+
+impl DrawTarget for RowFile {
+    type Color = Rgb888;
+    type Error = ();
+
+    fn draw_iter<I: IntoIterator<Item = Pixel<Rgb888>>>(&mut self, _: I) -> Result<(), ()> {
+        // The renderer sends whole rows; single pixels would mean a bug.
+        Err(())
+    }
+
+    fn fill_contiguous<I: IntoIterator<Item = Rgb888>>(
+        &mut self,
+        area: &Rectangle,
+        colors: I,
+    ) -> Result<(), ()> {
+        let mut n = 0;
+        for (slot, c) in self.bytes.chunks_exact_mut(3).zip(colors) {
+            slot.copy_from_slice(&[c.r(), c.g(), c.b()]);
+            n += 3;
+        }
+        if n != 3 * area.size.width as usize {
+            return Err(());
+        }
+        microray_count_stop();
+        // SYS_WRITE returns the number of bytes not written.
+        let left = unsafe { syscall!(WRITE, self.handle, self.bytes.as_ptr(), n) };
+        microray_count_start();
+        if left == 0 { Ok(()) } else { Err(()) }
+    }
+}
+
+fn open(name: &str) -> usize {
+    let mut path = [0u8; 64];
+    let len = name.len().min(58);
+    path[..len].copy_from_slice(&name.as_bytes()[..len]);
+    path[len..len + 4].copy_from_slice(b".rgb");
+    // Mode 5 is "wb"; the length excludes the terminating NUL.
+    unsafe { syscall!(OPEN, path.as_ptr(), 5, len + 4) }
+}
+
+#[inline(never)]
+fn render_to_file(name: &str, scene: &mut FirmwareScene) -> Result<(), &'static str> {
+    scene
+        .set_resolution(WIDTH, HEIGHT)
+        .map_err(|_| "resolution")?;
+    let handle = open(name);
+    if handle == usize::MAX {
+        return Err("cannot open the output file");
+    }
+    let mut target = RowFile {
+        handle,
+        bytes: [0; 3 * WIDTH as usize],
+    };
+    let mut row = [Rgb888::BLACK; WIDTH as usize];
+    let all = Rectangle::new(
+        Point::zero(),
+        Size::new(u32::from(WIDTH), u32::from(HEIGHT)),
+    );
+    microray_count_start();
+    let result =
+        Renderer::new(scene).render_area(&mut target, all, &mut row, |_| ControlFlow::Continue(()));
+    microray_count_stop();
+    microray_count_frame();
+    unsafe { syscall!(CLOSE, handle) };
+    result.map(|_| ()).map_err(|_| "render failed")
+}
+
+fn report(name: &str, result: Result<(), &str>) {
+    let stack = stack::peak();
+    match result {
+        Ok(()) => hprintln!("microray scene {} stack {}", name, stack),
+        Err(why) => hprintln!("microray scene {} error {}", name, why),
+    }
+}
+
+/// Parses and renders one embedded scene file into the one scene there is.
+#[inline(never)]
+fn run_file(file: &scenes::SceneFile, scene: &mut FirmwareScene) -> Result<(), &'static str> {
+    let textures = |filename: &str| {
+        file.textures
+            .iter()
+            .find(|(written, _)| *written == filename)
+            .map(|(_, bytes)| *bytes)
+            .ok_or(TextureError::NotFound)
+    };
+    parse_scene_into(file.text.as_bytes(), textures, scene).map_err(|e| {
+        hprintln!("microray scene {} load error {}", file.name, e);
+        "scene does not load"
+    })?;
+    render_to_file(file.name, scene)
+}
+
+/// Builds and renders the scene written in Rust source.
+#[inline(never)]
+fn run_static(scene: &mut FirmwareScene) -> Result<(), &'static str> {
+    scene
+        .load_defs(
+            &static_scene::CAMERA,
+            &static_scene::MATERIALS,
+            &static_scene::TEXTURES,
+            &static_scene::LIGHTS,
+            &static_scene::OBJECTS,
+        )
+        .map_err(|_| "static scene does not load")?;
+    render_to_file(static_scene::NAME, scene)
+}
+
+#[entry]
+fn main() -> ! {
+    // The one scene, built in place for each file in turn.
+    let mut scene = FirmwareScene::empty();
+    for file in SCENES {
+        stack::paint();
+        let result = run_file(file, &mut scene);
+        report(file.name, result);
+    }
+    stack::paint();
+    let result = run_static(&mut scene);
+    report(static_scene::NAME, result);
+    for name in SKIPPED {
+        hprintln!(
+            "microray scene {} skipped (its textures do not fit this machine's flash)",
+            name
+        );
+    }
+    debug::exit(debug::EXIT_SUCCESS);
+    loop {
+        cortex_m::asm::wfi();
+    }
+}
+
+/// Peak stack: the free stack is filled with a pattern, and the lowest word that no longer
+/// holds it shows how deep the stack went.
+mod stack {
+    const PATTERN: u32 = 0x5AFE_C0DE;
+
+    unsafe extern "C" {
+        /// End of `.bss`: the stack may grow down to here (cortex-m-rt).
+        static __sheap: u32;
+        /// Top of RAM, where the stack starts (cortex-m-rt).
+        static _stack_start: u32;
+    }
+
+    fn bounds() -> (usize, usize) {
+        let bottom = core::ptr::addr_of!(__sheap) as usize;
+        let top = core::ptr::addr_of!(_stack_start) as usize;
+        (bottom, top)
+    }
+
+    /// Fills the free stack below the current frame (with a margin) with the pattern.
+    #[inline(never)]
+    pub fn paint() {
+        let (bottom, _) = bounds();
+        let here = cortex_m::register::msp::read() as usize - 64;
+        let mut p = bottom;
+        while p < here {
+            unsafe { core::ptr::write_volatile(p as *mut u32, PATTERN) };
+            p += 4;
+        }
+    }
+
+    /// Bytes of stack used since the last paint.
+    pub fn peak() -> usize {
+        let (bottom, top) = bounds();
+        let mut p = bottom;
+        while p < top && unsafe { core::ptr::read_volatile(p as *const u32) } == PATTERN {
+            p += 4;
+        }
+        top - p
+    }
+}

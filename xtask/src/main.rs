@@ -1,0 +1,26 @@
+//! The project's tasks.
+//!
+//! - `cargo xtask qemu [--size WxH]`: builds the firmware for the emulated Cortex-M4F
+//!   (mps2-an386) and Cortex-M0 (microbit) in f32 and I16F16, and the instruction-counting
+//!   QEMU plugin; runs every scene on both machines; compares each frame byte for byte with
+//!   the host's render of the same scene, number type and size; prints the table (and writes
+//!   it to `docs/firmware.md`). Exits non-zero on any difference or failure.
+
+mod qemu;
+
+use std::process::ExitCode;
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let result = match args.first().map(String::as_str) {
+        Some("qemu") => qemu::run(&args[1..]),
+        _ => Err("usage: cargo xtask qemu [--size WIDTHxHEIGHT]".to_string()),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("xtask: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}

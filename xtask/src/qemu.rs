@@ -1,0 +1,489 @@
+//! `cargo xtask qemu`: the firmware on emulated microcontrollers against the host.
+
+use microray::Scalar;
+use microray::host::{Framebuffer, HostScene, texture_files};
+use microray::parse::parse_scene;
+use microray::render::render;
+use microray::scalar::I16F16;
+use object::{Object, ObjectSection, ObjectSymbol};
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+#[path = "../../firmware/src/static_scene.rs"]
+mod static_scene;
+
+/// One firmware build: a machine and a number type.
+struct Build {
+    machine: &'static str,
+    cpu: &'static str,
+    target: &'static str,
+    feature: &'static str,
+    number: &'static str,
+}
+
+const BUILDS: [Build; 4] = [
+    Build {
+        machine: "mps2-an386",
+        cpu: "cortex-m4",
+        target: "thumbv7em-none-eabihf",
+        feature: "mps2",
+        number: "f32",
+    },
+    Build {
+        machine: "mps2-an386",
+        cpu: "cortex-m4",
+        target: "thumbv7em-none-eabihf",
+        feature: "mps2",
+        number: "fixed",
+    },
+    Build {
+        machine: "microbit",
+        cpu: "cortex-m0",
+        target: "thumbv6m-none-eabi",
+        feature: "microbit",
+        number: "fixed",
+    },
+    Build {
+        machine: "microbit",
+        cpu: "cortex-m0",
+        target: "thumbv6m-none-eabi",
+        feature: "microbit",
+        number: "f32",
+    },
+];
+
+/// What one frame cost and whether it matched.
+struct Row {
+    scene: String,
+    machine: &'static str,
+    number: &'static str,
+    identical: Result<bool, String>,
+    insns: u64,
+    vdiv: u64,
+    vsqrt: u64,
+    stack: u64,
+}
+
+/// Flash and static RAM of a build, from its ELF sections.
+struct Size {
+    flash: u64,
+    ram: u64,
+}
+
+pub fn run(args: &[String]) -> Result<(), String> {
+    let mut size = "160x120".to_string();
+    let mut rest = args.iter();
+    while let Some(arg) = rest.next() {
+        match arg.as_str() {
+            "--size" => size = rest.next().ok_or("--size takes WIDTHxHEIGHT")?.clone(),
+            other => return Err(format!("unknown argument {other}")),
+        }
+    }
+    let (width, height) = size
+        .split_once('x')
+        .and_then(|(w, h)| Some((w.parse::<u16>().ok()?, h.parse::<u16>().ok()?)))
+        .ok_or("--size takes WIDTHxHEIGHT")?;
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("..")
+        .canonicalize()
+        .map_err(|e| e.to_string())?;
+    let conformance = conformance_dir(&root);
+    which("qemu-system-arm")
+        .ok_or("qemu-system-arm is not installed (apt-get install qemu-system-arm)")?;
+
+    let plugin = build_plugin(&root)?;
+    let scenes = scene_files(&root, conformance.as_deref());
+    let mut rows = Vec::new();
+    let mut sizes = BTreeMap::new();
+    for build in &BUILDS {
+        let elf = build_firmware(&root, build, conformance.as_deref(), &size)?;
+        let (markers, size) = inspect(&elf)?;
+        sizes.insert((build.machine, build.number), size);
+        let out = root
+            .join("target/qemu")
+            .join(format!("{}-{}", build.machine, build.number));
+        let _ = std::fs::remove_dir_all(&out);
+        std::fs::create_dir_all(&out).map_err(|e| e.to_string())?;
+        let started = Instant::now();
+        let (console, log) = run_qemu(build, &elf, &plugin, markers, &out)?;
+        eprintln!(
+            "{} {}: ran in {:.1} s",
+            build.machine,
+            build.number,
+            started.elapsed().as_secs_f64()
+        );
+        rows.extend(compare(
+            build, &console, &log, &out, &scenes, width, height,
+        )?);
+    }
+    let table = table(&rows, &sizes, width, height);
+    println!("{table}");
+    std::fs::create_dir_all(root.join("docs")).map_err(|e| e.to_string())?;
+    std::fs::write(root.join("docs/firmware.md"), &table).map_err(|e| e.to_string())?;
+    let failed: Vec<String> = rows
+        .iter()
+        .filter(|r| r.identical != Ok(true))
+        .map(|r| {
+            format!(
+                "{} on {} in {}: {:?}",
+                r.scene, r.machine, r.number, r.identical
+            )
+        })
+        .collect();
+    if failed.is_empty() {
+        Ok(())
+    } else {
+        Err(format!(
+            "frames differ from the host:\n{}",
+            failed.join("\n")
+        ))
+    }
+}
+
+fn which(program: &str) -> Option<PathBuf> {
+    std::env::var_os("PATH")?
+        .to_str()?
+        .split(':')
+        .map(|d| Path::new(d).join(program))
+        .find(|p| p.is_file())
+}
+
+fn conformance_dir(root: &Path) -> Option<PathBuf> {
+    let dir = std::env::var_os("MICRORAY_CONFORMANCE")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| "../shared/conformance".into());
+    let dir = if dir.is_relative() {
+        root.join(dir)
+    } else {
+        dir
+    };
+    dir.canonicalize().ok()
+}
+
+/// Scene name to file, in the firmware's order: course scenes, then the project's.
+fn scene_files(root: &Path, conformance: Option<&Path>) -> BTreeMap<String, PathBuf> {
+    let mut found = BTreeMap::new();
+    let mut dirs: Vec<PathBuf> = conformance.map(Path::to_path_buf).into_iter().collect();
+    dirs.push(root.join("scenes"));
+    dirs.push(root.join("tests/scenes"));
+    while let Some(dir) = dirs.pop() {
+        for entry in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
+            let path = entry.path();
+            if path.is_dir() {
+                dirs.push(path);
+            } else if path.extension().is_some_and(|e| e == "txt") {
+                let name = path
+                    .file_stem()
+                    .and_then(|s| s.to_str())
+                    .unwrap_or_default()
+                    .to_string();
+                found.insert(name, path);
+            }
+        }
+    }
+    found
+}
+
+fn cargo(args: &[&str], dir: &Path, envs: &[(&str, &str)]) -> Result<(), String> {
+    let status = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
+        .args(args)
+        .current_dir(dir)
+        .envs(envs.iter().copied())
+        .status()
+        .map_err(|e| e.to_string())?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(format!("cargo {} failed", args.join(" ")))
+    }
+}
+
+fn build_plugin(root: &Path) -> Result<PathBuf, String> {
+    cargo(&["build", "--release", "-p", "icount"], root, &[])?;
+    Ok(root.join("target/release/libicount.so"))
+}
+
+fn build_firmware(
+    root: &Path,
+    build: &Build,
+    conformance: Option<&Path>,
+    size: &str,
+) -> Result<PathBuf, String> {
+    let features = format!("{},{}", build.feature, build.number);
+    let dir = root.join("firmware");
+    let conformance = conformance
+        .map(|p| p.display().to_string())
+        .unwrap_or_default();
+    let mut envs = vec![("MICRORAY_FW_SIZE", size)];
+    if !conformance.is_empty() {
+        envs.push(("MICRORAY_CONFORMANCE", conformance.as_str()));
+    }
+    cargo(
+        &[
+            "build",
+            "--release",
+            "--target",
+            build.target,
+            "--features",
+            &features,
+        ],
+        &dir,
+        &envs,
+    )?;
+    // One artefact per target: copy it before the next build of the same target replaces it.
+    let elf = dir
+        .join("target")
+        .join(build.target)
+        .join("release/microray-firmware");
+    let copy = root
+        .join("target/qemu")
+        .join(format!("firmware-{}-{}.elf", build.machine, build.number));
+    std::fs::create_dir_all(root.join("target/qemu")).map_err(|e| e.to_string())?;
+    std::fs::copy(&elf, &copy).map_err(|e| format!("{}: {e}", elf.display()))?;
+    Ok(copy)
+}
+
+/// The markers' addresses (without the Thumb bit) and the flash and RAM the build takes.
+fn inspect(elf: &Path) -> Result<([u64; 3], Size), String> {
+    let bytes = std::fs::read(elf).map_err(|e| e.to_string())?;
+    let file = object::File::parse(&*bytes).map_err(|e| e.to_string())?;
+    let mut markers = [0u64; 3];
+    for symbol in file.symbols() {
+        let index = match symbol.name() {
+            Ok("microray_count_start") => 0,
+            Ok("microray_count_stop") => 1,
+            Ok("microray_count_frame") => 2,
+            _ => continue,
+        };
+        markers[index] = symbol.address() & !1;
+    }
+    if markers.contains(&0) {
+        return Err(format!("{}: marker functions not found", elf.display()));
+    }
+    let mut size = Size { flash: 0, ram: 0 };
+    for section in file.sections() {
+        match section.name() {
+            Ok(".vector_table" | ".text" | ".rodata") => size.flash += section.size(),
+            Ok(".data") => {
+                // Initial values live in flash, the variables in RAM.
+                size.flash += section.size();
+                size.ram += section.size();
+            }
+            Ok(".bss" | ".uninit") => size.ram += section.size(),
+            _ => {}
+        }
+    }
+    Ok((markers, size))
+}
+
+fn run_qemu(
+    build: &Build,
+    elf: &Path,
+    plugin: &Path,
+    markers: [u64; 3],
+    out: &Path,
+) -> Result<(String, String), String> {
+    let log = out.join("icount.log");
+    let plugin_arg = format!(
+        "{},start={:#x},stop={:#x},frame={:#x}",
+        plugin.display(),
+        markers[0],
+        markers[1],
+        markers[2]
+    );
+    let mut child = Command::new("qemu-system-arm")
+        .args(["-machine", build.machine, "-cpu", build.cpu, "-nographic"])
+        .args(["-semihosting-config", "enable=on,target=native"])
+        .args(["-plugin", &plugin_arg, "-d", "plugin", "-D"])
+        .arg(&log)
+        .arg("-kernel")
+        .arg(elf)
+        .current_dir(out)
+        // QEMU needs a standard input that stays open.
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .map_err(|e| e.to_string())?;
+    let deadline = Instant::now() + Duration::from_secs(600);
+    let status = loop {
+        if let Some(status) = child.try_wait().map_err(|e| e.to_string())? {
+            break status;
+        }
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            return Err(format!(
+                "{} {}: QEMU did not finish in 600 s",
+                build.machine, build.number
+            ));
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    let output = child.wait_with_output().map_err(|e| e.to_string())?;
+    let console = String::from_utf8_lossy(&output.stdout).into_owned();
+    if !status.success() {
+        return Err(format!(
+            "{} {}: QEMU exited with {status}\n{console}{}",
+            build.machine,
+            build.number,
+            String::from_utf8_lossy(&output.stderr)
+        ));
+    }
+    let log = std::fs::read_to_string(&log).map_err(|e| e.to_string())?;
+    Ok((console, log))
+}
+
+/// The host's render of a scene at the firmware's size, in `S`.
+fn host_render<S: Scalar>(path: Option<&Path>, width: u16, height: u16) -> Result<Vec<u8>, String> {
+    let mut scene: HostScene<'static, S> = match path {
+        Some(path) => {
+            let text = std::fs::read(path).map_err(|e| e.to_string())?;
+            parse_scene(
+                &text,
+                texture_files(path.parent().unwrap_or(Path::new("."))),
+            )
+            .map_err(|e| format!("{}: {e}", path.display()))?
+        }
+        None => microray::Scene::from_defs(
+            &static_scene::CAMERA,
+            &static_scene::MATERIALS,
+            &static_scene::TEXTURES,
+            &static_scene::LIGHTS,
+            &static_scene::OBJECTS,
+        )
+        .map_err(|e| e.to_string())?,
+    };
+    scene
+        .set_resolution(width, height)
+        .map_err(|e| e.to_string())?;
+    let mut image = Framebuffer::new(embedded_graphics::prelude::Size::new(
+        u32::from(width),
+        u32::from(height),
+    ));
+    render(&scene, &mut image).map_err(|e| e.to_string())?;
+    Ok(image.rgb().to_vec())
+}
+
+fn compare(
+    build: &Build,
+    console: &str,
+    log: &str,
+    out: &Path,
+    scenes: &BTreeMap<String, PathBuf>,
+    width: u16,
+    height: u16,
+) -> Result<Vec<Row>, String> {
+    let mut frames = log.lines().filter_map(|line| {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        match words.as_slice() {
+            ["icount", "frame", _, "insns", i, "vdiv", d, "vsqrt", q] => {
+                Some((i.parse().ok()?, d.parse().ok()?, q.parse().ok()?))
+            }
+            _ => None,
+        }
+    });
+    let mut rows = Vec::new();
+    for line in console.lines() {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        let (name, stack) = match words.as_slice() {
+            ["microray", "scene", name, "stack", stack] => {
+                (name.to_string(), stack.parse().unwrap_or(0))
+            }
+            ["microray", "scene", name, "skipped", ..] => {
+                eprintln!(
+                    "{} {}: {name} skipped (its textures do not fit the flash)",
+                    build.machine, build.number
+                );
+                continue;
+            }
+            ["microray", "scene", name, ..] => {
+                return Err(format!(
+                    "{} {}: {name}: {line}",
+                    build.machine, build.number
+                ));
+            }
+            _ => continue,
+        };
+        let (insns, vdiv, vsqrt) = frames
+            .next()
+            .ok_or(format!("no instruction count for {name}"))?;
+        let dump =
+            std::fs::read(out.join(format!("{name}.rgb"))).map_err(|e| format!("{name}: {e}"))?;
+        let path = if name == static_scene::NAME {
+            None
+        } else {
+            scenes.get(&name).map(PathBuf::as_path)
+        };
+        if name != static_scene::NAME && path.is_none() {
+            return Err(format!("{name}: no such scene on the host"));
+        }
+        let host = match build.number {
+            "f32" => host_render::<f32>(path, width, height),
+            _ => host_render::<I16F16>(path, width, height),
+        };
+        let identical = host.map(|h| h == dump);
+        rows.push(Row {
+            scene: name,
+            machine: build.machine,
+            number: build.number,
+            identical,
+            insns,
+            vdiv,
+            vsqrt,
+            stack,
+        });
+    }
+    Ok(rows)
+}
+
+fn table(rows: &[Row], sizes: &BTreeMap<(&str, &str), Size>, width: u16, height: u16) -> String {
+    let pixels = f64::from(width) * f64::from(height);
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "# microray on emulated microcontrollers\n\n\
+         Written by `cargo xtask qemu`: every scene rendered at {width}x{height} by the firmware in QEMU 7.2 \
+         (mps2-an386: Cortex-M4F; microbit: Cortex-M0), each frame compared byte for byte with the host's \
+         render of the same scene and number type. Instructions are exact counts of the render \
+         (parsing and writing rows out excluded) by the project's QEMU plugin; VDIV and VSQRT take 14 \
+         cycles each on the M4F though they count as one instruction. Flash is `.vector_table + .text + \
+         .rodata + .data`, static RAM `.data + .bss`, both for the whole firmware with every scene \
+         embedded; peak stack is measured by painting the stack.\n"
+    );
+    let _ = writeln!(
+        out,
+        "| scene | machine | number | identical | instructions/frame | instructions/pixel | VDIV/pixel | VSQRT/pixel | flash | static RAM | peak stack |"
+    );
+    let _ = writeln!(out, "|---|---|---|---|---|---|---|---|---|---|---|");
+    for r in rows {
+        let size = sizes.get(&(r.machine, r.number));
+        let identical = match &r.identical {
+            Ok(true) => "yes".to_string(),
+            Ok(false) => "NO".to_string(),
+            Err(e) => format!("error: {e}"),
+        };
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {} | {} | {:.0} | {:.2} | {:.2} | {} | {} | {} |",
+            r.scene,
+            r.machine,
+            if r.number == "fixed" {
+                "i16f16"
+            } else {
+                r.number
+            },
+            identical,
+            r.insns,
+            r.insns as f64 / pixels,
+            r.vdiv as f64 / pixels,
+            r.vsqrt as f64 / pixels,
+            size.map_or(0, |s| s.flash),
+            size.map_or(0, |s| s.ram),
+            r.stack
+        );
+    }
+    out
+}

@@ -23,6 +23,10 @@ fn main() {
     println!("cargo:rerun-if-changed=build.rs");
     println!("cargo:rerun-if-env-changed=MICRORAY_CONFORMANCE");
     println!("cargo:rerun-if-env-changed=MICRORAY_FW_SIZE");
+    println!("cargo:rerun-if-env-changed=MICRORAY_FW_ONLY");
+    // A comma-separated list of scene names to embed (all when unset), for profiling.
+    let only: Option<Vec<String>> =
+        env::var("MICRORAY_FW_ONLY").ok().filter(|s| !s.is_empty()).map(|s| s.split(',').map(str::to_string).collect());
 
     let size = env::var("MICRORAY_FW_SIZE").unwrap_or_else(|_| "160x120".into());
     let (width, height) = size
@@ -48,6 +52,9 @@ fn main() {
     let mut skipped = String::from("pub const SKIPPED: &[&str] = &[\n");
     for path in files {
         let name = path.file_stem().unwrap().to_str().unwrap().to_string();
+        if only.as_ref().is_some_and(|names| !names.contains(&name)) {
+            continue;
+        }
         let text = fs::read_to_string(&path).unwrap();
         let textures = texture_files(&text, path.parent().unwrap());
         let bytes: usize = textures

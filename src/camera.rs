@@ -144,9 +144,7 @@ impl<S: Scalar> Camera<S> {
     /// when the viewpoint lies on that point (no direction).
     #[inline]
     pub fn primary_ray(&self, x: u16, y: u16) -> Option<Ray<S>> {
-        let span = |world: S, i: u16, pixels: u16| {
-            world * S::from_f64(f64::from(i)) / S::from_f64(f64::from(pixels.saturating_sub(1)))
-        };
+        let span = |world: S, i: u16, pixels: u16| world.mul_ratio(i, pixels.saturating_sub(1));
         let on_screen = Vec3::new(
             span(self.world[0], x, self.width),
             span(self.world[1], y, self.height),

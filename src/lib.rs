@@ -39,7 +39,7 @@
 //! [`texture`], [`object`] (one file per kind), [`scene`], [`parse`], [`print`](mod@print), [`shade`]
 //! (the course's illumination), [`render`] (rows into a `DrawTarget`), [`error`].
 #![cfg_attr(not(feature = "std"), no_std)]
-#![forbid(unsafe_code)]
+#![deny(unsafe_code)]
 #![deny(missing_docs)]
 #![warn(missing_debug_implementations, rust_2018_idioms, unreachable_pub)]
 // `!(t > 0)` is deliberate: a NaN must count as a miss, which `t <= 0` would not do.

@@ -40,20 +40,20 @@ impl<S: Scalar> TexPlane<S> {
         let Some(texture) = palette.textures.get(usize::from(self.texture)) else {
             return Vec3::new(S::ONE, S::ONE, S::ONE);
         };
-        let (width, height) = (i64::from(texture.width()), i64::from(texture.height()));
+        let (width, height) = (i32::from(texture.width()), i32::from(texture.height()));
         let [qx, qy] = self.rect.local(hit.point);
         let (column, row) = match self.mode {
             TextureMode::Fit => {
                 let [w, h] = self.rect.dimensions;
-                let x = (qx / w * S::from_f64(width as f64)).floor_to_i64();
-                let y = (qy / h * S::from_f64(height as f64)).floor_to_i64();
+                let x = (qx / w * S::from_i32(width)).floor_to_i32();
+                let y = (qy / h * S::from_i32(height)).floor_to_i32();
                 (x.clamp(0, width - 1), y.clamp(0, height - 1))
             }
             TextureMode::Tile => {
                 let camera = palette.camera;
                 let [world_w, world_h] = camera.world();
-                let x = (qx / world_w * S::from_f64(f64::from(camera.width()))).floor_to_i64();
-                let y = (qy / world_h * S::from_f64(f64::from(camera.height()))).floor_to_i64();
+                let x = (qx / world_w * S::from_i32(i32::from(camera.width()))).floor_to_i32();
+                let y = (qy / world_h * S::from_i32(i32::from(camera.height()))).floor_to_i32();
                 (x.rem_euclid(width), y.rem_euclid(height))
             }
         };

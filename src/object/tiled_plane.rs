@@ -61,8 +61,8 @@ impl<S: Scalar> TiledPlane<S> {
         // parity of K is kept.
         let [w, h] = self.rect.dimensions;
         let [(odd_x, fx), (odd_y, fy)] = self.offset;
-        let ix = (self.rect.u.dot(hit.point) / w + fx).floor_to_i64();
-        let iy = (self.rect.v.dot(hit.point) / h + fy).floor_to_i64();
+        let ix = (self.rect.u.dot(hit.point) / w + fx).floor_to_i32();
+        let iy = (self.rect.v.dot(hit.point) / h + fy).floor_to_i32();
         let parity = (ix.wrapping_add(iy) & 1 == 1) ^ odd_x ^ odd_y;
         !parity
     }

@@ -240,8 +240,20 @@ impl Scalar for I16F16 {
         ((i64::from(bits) * 255) >> FRAC).min(255) as u8
     }
     #[inline]
-    fn floor_to_i64(self) -> i64 {
-        i64::from(self.to_bits() >> FRAC)
+    fn floor_to_i32(self) -> i32 {
+        self.to_bits() >> FRAC
+    }
+    #[inline]
+    fn from_i32(value: i32) -> Self {
+        Self::saturate(i64::from(value) << FRAC)
+    }
+    /// Exact: `bits * numerator` in 64 bits, then the division, truncated.
+    #[inline]
+    fn mul_ratio(self, numerator: u16, denominator: u16) -> Self {
+        if denominator == 0 {
+            return self / Self::ZERO;
+        }
+        Self::saturate(i64::from(self.to_bits()) * i64::from(numerator) / i64::from(denominator))
     }
     fn write_shortest(self, out: &mut dyn fmt::Write) -> fmt::Result {
         // Five decimals always suffice: 10^-5 / 2 is below half a step (2^-17).

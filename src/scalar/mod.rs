@@ -84,8 +84,17 @@ pub trait Scalar:
             0
         }
     }
-    /// The largest integer not above the value, saturated to the `i64` range.
-    fn floor_to_i64(self) -> i64;
+    /// The largest integer not above the value, saturated to the `i32` range.
+    fn floor_to_i32(self) -> i32;
+    /// A whole number.
+    fn from_i32(value: i32) -> Self;
+    /// `self * numerator / denominator`, for pixel coordinates: in this order for the float
+    /// types (the course's), exactly in 64 bits for fixed point (where `self * numerator`
+    /// could overflow).
+    #[inline]
+    fn mul_ratio(self, numerator: u16, denominator: u16) -> Self {
+        self * Self::from_i32(i32::from(numerator)) / Self::from_i32(i32::from(denominator))
+    }
     /// The nearest value of this type, or `None` when `value` is outside the type's range.
     #[inline]
     fn from_f64_checked(value: f64) -> Option<Self> {
@@ -166,9 +175,13 @@ impl Scalar for f64 {
         }
     }
     #[inline]
-    fn floor_to_i64(self) -> i64 {
+    fn floor_to_i32(self) -> i32 {
         // `as` saturates and maps NaN to 0: never undefined, never a panic.
-        libm::floor(self) as i64
+        libm::floor(self) as i32
+    }
+    #[inline]
+    fn from_i32(value: i32) -> Self {
+        f64::from(value)
     }
     fn write_shortest(self, out: &mut dyn fmt::Write) -> fmt::Result {
         write_shortest_float(self, out)
@@ -197,7 +210,7 @@ impl Scalar for f32 {
     }
     #[inline]
     fn sqrt(self) -> Self {
-        if self > 0.0 { libm::sqrtf(self) } else { 0.0 }
+        if self > 0.0 { sqrtf(self) } else { 0.0 }
     }
     #[inline]
     fn pow_positive(self, exponent: Self) -> Self {
@@ -208,11 +221,77 @@ impl Scalar for f32 {
         }
     }
     #[inline]
-    fn floor_to_i64(self) -> i64 {
-        libm::floorf(self) as i64
+    fn floor_to_i32(self) -> i32 {
+        libm::floorf(self) as i32
+    }
+    #[inline]
+    fn from_i32(value: i32) -> Self {
+        value as f32
+    }
+    /// Exact without `f64`: `v * 255` for `v` in (0, 1) is `mantissa * 255 * 2^exponent`,
+    /// and `mantissa * 255` fits 32 bits; truncating it is what the `f64` product gives.
+    #[inline]
+    fn to_byte(self) -> u8 {
+        if !(self > 0.0) {
+            return 0;
+        }
+        if self >= 1.0 {
+            return 255;
+        }
+        let bits = self.to_bits();
+        let exponent = (bits >> 23) as i32; // biased; below 127 for v < 1
+        let mantissa = (bits & 0x7f_ffff) | if exponent == 0 { 0 } else { 0x80_0000 };
+        // v = mantissa * 2^(exponent - 150) (subnormals: exponent 1); shift is 24 or more.
+        let shift = 150 - exponent.max(1);
+        let product = mantissa * 255;
+        if shift >= 32 {
+            0
+        } else {
+            (product >> shift) as u8
+        }
     }
     fn write_shortest(self, out: &mut dyn fmt::Write) -> fmt::Result {
         write_shortest_float(self, out)
+    }
+}
+
+/// `f32` square root: the FPU's VSQRT where the target has one (Cortex-M4F/M7 with the
+/// hard-float ABI), `libm` elsewhere. Both are IEEE square roots, correctly rounded, so the
+/// result is the same bits either way.
+#[cfg(not(all(target_arch = "arm", target_abi = "eabihf")))]
+#[inline]
+fn sqrtf(x: f32) -> f32 {
+    libm::sqrtf(x)
+}
+
+#[cfg(all(target_arch = "arm", target_abi = "eabihf"))]
+use vsqrt::sqrtf;
+
+/// VSQRT in a two-instruction function: inline `asm!` with float registers needs an unstable
+/// target feature, `global_asm!` does not. The only `unsafe` in the library.
+#[cfg(all(target_arch = "arm", target_abi = "eabihf"))]
+#[allow(unsafe_code)]
+mod vsqrt {
+    core::arch::global_asm!(
+        ".section .text.microray_vsqrtf,\"ax\",%progbits",
+        ".global microray_vsqrtf",
+        ".type microray_vsqrtf,%function",
+        ".fpu fpv4-sp-d16",
+        ".thumb_func",
+        "microray_vsqrtf:",
+        "vsqrt.f32 s0, s0",
+        "bx lr",
+    );
+
+    unsafe extern "C" {
+        fn microray_vsqrtf(x: f32) -> f32;
+    }
+
+    #[inline]
+    pub(super) fn sqrtf(x: f32) -> f32 {
+        // SAFETY: the function above takes and returns its f32 in s0, as the hard-float ABI
+        // does, and touches nothing else.
+        unsafe { microray_vsqrtf(x) }
     }
 }
 
@@ -367,9 +446,31 @@ mod tests {
 
     #[test]
     fn floor_saturates() {
-        assert_eq!((-0.5f64).floor_to_i64(), -1);
-        assert_eq!(1e300f64.floor_to_i64(), i64::MAX);
-        assert_eq!(f64::NAN.floor_to_i64(), 0);
-        assert_eq!((2.5f32).floor_to_i64(), 2);
+        assert_eq!((-0.5f64).floor_to_i32(), -1);
+        assert_eq!(1e300f64.floor_to_i32(), i32::MAX);
+        assert_eq!(f64::NAN.floor_to_i32(), 0);
+        assert_eq!((2.5f32).floor_to_i32(), 2);
+    }
+
+    #[test]
+    fn f32_bytes_equal_the_f64_conversion() {
+        // Every f32 near each byte boundary, and a sweep of all exponents below 1.
+        for k in 0..=255u32 {
+            let edge = k as f32 / 255.0;
+            let mut v = edge;
+            for _ in 0..40 {
+                assert_eq!(Scalar::to_byte(v), Scalar::to_byte(f64::from(v)), "{v:e}");
+                v = f32::from_bits(v.to_bits() + 1);
+            }
+            let mut v = edge;
+            for _ in 0..40 {
+                assert_eq!(Scalar::to_byte(v), Scalar::to_byte(f64::from(v)), "{v:e}");
+                v = f32::from_bits(v.to_bits().saturating_sub(1));
+            }
+        }
+        for bits in (0..0x3f80_0000u32).step_by(997) {
+            let v = f32::from_bits(bits);
+            assert_eq!(Scalar::to_byte(v), Scalar::to_byte(f64::from(v)), "{v:e}");
+        }
     }
 }

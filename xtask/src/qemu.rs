@@ -15,6 +15,17 @@ use std::time::{Duration, Instant};
 #[path = "../../firmware/src/static_scene.rs"]
 mod static_scene;
 
+/// Options of `cargo xtask qemu`.
+#[derive(Default)]
+struct Options {
+    /// Only these scenes (comma-separated); all when empty.
+    only: String,
+    /// Count instructions by function as well.
+    profile: bool,
+    /// Only this build (`mps2-an386-f32`, `microbit-fixed`, ...).
+    build: Option<String>,
+}
+
 /// One firmware build: a machine and a number type.
 struct Build {
     machine: &'static str,
@@ -75,10 +86,16 @@ struct Size {
 
 pub fn run(args: &[String]) -> Result<(), String> {
     let mut size = "160x120".to_string();
+    let mut options = Options::default();
     let mut rest = args.iter();
     while let Some(arg) = rest.next() {
         match arg.as_str() {
             "--size" => size = rest.next().ok_or("--size takes WIDTHxHEIGHT")?.clone(),
+            "--only" => options.only = rest.next().ok_or("--only takes SCENE[,SCENE...]")?.clone(),
+            "--profile" => options.profile = true,
+            "--build" => {
+                options.build = Some(rest.next().ok_or("--build takes MACHINE-NUMBER")?.clone())
+            }
             other => return Err(format!("unknown argument {other}")),
         }
     }
@@ -99,7 +116,11 @@ pub fn run(args: &[String]) -> Result<(), String> {
     let mut rows = Vec::new();
     let mut sizes = BTreeMap::new();
     for build in &BUILDS {
-        let elf = build_firmware(&root, build, conformance.as_deref(), &size)?;
+        let name = format!("{}-{}", build.machine, build.number);
+        if options.build.as_ref().is_some_and(|only| *only != name) {
+            continue;
+        }
+        let elf = build_firmware(&root, build, conformance.as_deref(), &size, &options.only)?;
         let (markers, size) = inspect(&elf)?;
         sizes.insert((build.machine, build.number), size);
         let out = root
@@ -108,7 +129,16 @@ pub fn run(args: &[String]) -> Result<(), String> {
         let _ = std::fs::remove_dir_all(&out);
         std::fs::create_dir_all(&out).map_err(|e| e.to_string())?;
         let started = Instant::now();
-        let (console, log) = run_qemu(build, &elf, &plugin, markers, &out)?;
+        let (console, log) = run_qemu(build, &elf, &plugin, markers, &out, options.profile)?;
+        if options.profile {
+            println!("## profile: {name} (the whole run, by function)");
+            for line in log
+                .lines()
+                .filter_map(|l| l.strip_prefix("icount profile "))
+            {
+                println!("{line}");
+            }
+        }
         eprintln!(
             "{} {}: ran in {:.1} s",
             build.machine,
@@ -211,13 +241,14 @@ fn build_firmware(
     build: &Build,
     conformance: Option<&Path>,
     size: &str,
+    only: &str,
 ) -> Result<PathBuf, String> {
     let features = format!("{},{}", build.feature, build.number);
     let dir = root.join("firmware");
     let conformance = conformance
         .map(|p| p.display().to_string())
         .unwrap_or_default();
-    let mut envs = vec![("MICRORAY_FW_SIZE", size)];
+    let mut envs = vec![("MICRORAY_FW_SIZE", size), ("MICRORAY_FW_ONLY", only)];
     if !conformance.is_empty() {
         envs.push(("MICRORAY_CONFORMANCE", conformance.as_str()));
     }
@@ -285,14 +316,16 @@ fn run_qemu(
     plugin: &Path,
     markers: [u64; 3],
     out: &Path,
+    profile: bool,
 ) -> Result<(String, String), String> {
     let log = out.join("icount.log");
     let plugin_arg = format!(
-        "{},start={:#x},stop={:#x},frame={:#x}",
+        "{},start={:#x},stop={:#x},frame={:#x},profile={}",
         plugin.display(),
         markers[0],
         markers[1],
-        markers[2]
+        markers[2],
+        if profile { "on" } else { "off" }
     );
     let mut child = Command::new("qemu-system-arm")
         .args(["-machine", build.machine, "-cpu", build.cpu, "-nographic"])

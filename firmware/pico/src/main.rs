@@ -1,0 +1,124 @@
+//! microray on a Raspberry Pi Pico (RP2040, Cortex-M0+, no FPU) with a 240x240 ST7789 SPI
+//! display: the project's showcase scene, embedded at build time, rendered in Q16.16 fixed
+//! point straight to the panel, one row at a time (one SPI window write per row; no
+//! framebuffer). The on-board LED lights while rendering. See README.md for wiring.
+#![no_std]
+#![no_main]
+
+use core::ops::ControlFlow;
+use embedded_graphics::pixelcolor::{Rgb565, Rgb888, RgbColor};
+use embedded_graphics::prelude::{DrawTarget, DrawTargetExt, Point, Size};
+use embedded_graphics::primitives::Rectangle;
+use embedded_hal::digital::OutputPin;
+use embedded_hal_bus::spi::ExclusiveDevice;
+use fugit::RateExtU32;
+use microray::Scene;
+use microray::error::TextureError;
+use microray::parse::parse_scene_into;
+use microray::render::Renderer;
+use microray::scalar::I16F16;
+use mipidsi::Builder;
+use mipidsi::interface::SpiInterface;
+use mipidsi::models::ST7789;
+use mipidsi::options::ColorInversion;
+use panic_halt as _;
+use rp_pico::entry;
+use rp_pico::hal::{self, clocks::Clock, gpio, pac, spi};
+
+/// The scene and its texture, from the repository's `scenes/` at build time.
+const SHOWCASE: &str = include_str!("../../../scenes/showcase.txt");
+const CARD: &[u8] = include_bytes!("../../../scenes/images/card.ppm");
+
+/// The panel's size; the 4:3 scene is drawn 240 x 180 in its middle.
+const PANEL: u16 = 240;
+const HEIGHT: u16 = 180;
+
+/// Room for the showcase: 8 objects, 8 materials, 4 lights, 1 texture; files up to 800
+/// pixels wide (the scene is re-rendered at the panel's size).
+type PicoScene = Scene<'static, I16F16, 8, 8, 4, 1, 800>;
+
+#[entry]
+fn main() -> ! {
+    let mut pac = pac::Peripherals::take().unwrap();
+    let mut watchdog = hal::Watchdog::new(pac.WATCHDOG);
+    let clocks = hal::clocks::init_clocks_and_plls(
+        rp_pico::XOSC_CRYSTAL_FREQ,
+        pac.XOSC,
+        pac.CLOCKS,
+        pac.PLL_SYS,
+        pac.PLL_USB,
+        &mut pac.RESETS,
+        &mut watchdog,
+    )
+    .ok()
+    .unwrap();
+    let sio = hal::Sio::new(pac.SIO);
+    let pins = rp_pico::Pins::new(
+        pac.IO_BANK0,
+        pac.PADS_BANK0,
+        sio.gpio_bank0,
+        &mut pac.RESETS,
+    );
+    let mut timer = hal::Timer::new(pac.TIMER, &mut pac.RESETS, &clocks);
+
+    // SPI0 at 62.5 MHz: SCK GP18, MOSI GP19; CS GP17, DC GP16, RST GP20, backlight GP21.
+    let sck: gpio::Pin<_, gpio::FunctionSpi, gpio::PullNone> = pins.gpio18.reconfigure();
+    let mosi: gpio::Pin<_, gpio::FunctionSpi, gpio::PullNone> = pins.gpio19.reconfigure();
+    let spi = spi::Spi::<_, _, _, 8>::new(pac.SPI0, (mosi, sck)).init(
+        &mut pac.RESETS,
+        clocks.peripheral_clock.freq(),
+        62_500_000u32.Hz(),
+        embedded_hal::spi::MODE_3,
+    );
+    let cs = pins.gpio17.into_push_pull_output();
+    let dc = pins.gpio16.into_push_pull_output();
+    let reset = pins.gpio20.into_push_pull_output();
+    let mut backlight = pins.gpio21.into_push_pull_output();
+    let mut led = pins.led.into_push_pull_output();
+
+    let device = ExclusiveDevice::new_no_delay(spi, cs).unwrap();
+    let mut buffer = [0u8; 512];
+    let interface = SpiInterface::new(device, dc, &mut buffer);
+    let mut display = Builder::new(ST7789, interface)
+        .display_size(PANEL, PANEL)
+        .invert_colors(ColorInversion::Inverted)
+        .reset_pin(reset)
+        .init(&mut timer)
+        .unwrap();
+    display.clear(Rgb565::BLACK).unwrap();
+    backlight.set_high().unwrap();
+
+    // The scene, built in place; a scene that does not load shows a red panel.
+    let mut scene = PicoScene::empty();
+    let textures = |name: &str| {
+        if name == "images/card.ppm" {
+            Ok(CARD)
+        } else {
+            Err(TextureError::NotFound)
+        }
+    };
+    if parse_scene_into(SHOWCASE.as_bytes(), textures, &mut scene).is_err()
+        || scene.set_resolution(PANEL, HEIGHT).is_err()
+    {
+        display.clear(Rgb565::RED).unwrap();
+        loop {
+            cortex_m::asm::wfi();
+        }
+    }
+
+    led.set_high().unwrap();
+    let top = i32::from((PANEL - HEIGHT) / 2);
+    let mut target = display.translated(Point::new(0, top));
+    let mut row = [Rgb565::from(Rgb888::BLACK); PANEL as usize];
+    let area = Rectangle::new(
+        Point::zero(),
+        Size::new(u32::from(PANEL), u32::from(HEIGHT)),
+    );
+    let _ = Renderer::new(&scene)
+        .render_area(&mut target, area, &mut row, |_| ControlFlow::Continue(()));
+    led.set_low().unwrap();
+
+    loop {
+        cortex_m::asm::wfi();
+    }
+}

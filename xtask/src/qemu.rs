@@ -149,7 +149,10 @@ pub fn run(args: &[String]) -> Result<(), String> {
             build, &console, &log, &out, &scenes, width, height,
         )?);
     }
-    let table = table(&rows, &sizes, width, height);
+    let mut table = table(&rows, &sizes, width, height);
+    if options.only.is_empty() && options.build.is_none() {
+        table.push_str(&flash_by_part(&root, conformance.as_deref(), &size)?);
+    }
     println!("{table}");
     std::fs::create_dir_all(root.join("docs")).map_err(|e| e.to_string())?;
     std::fs::write(root.join("docs/firmware.md"), &table).map_err(|e| e.to_string())?;
@@ -470,6 +473,35 @@ fn compare(
         });
     }
     Ok(rows)
+}
+
+/// Flash of the parts: the renderer with a scene written in source (no parser linked), and
+/// the same with the parser and one course scene file (spec0) added.
+fn flash_by_part(root: &Path, conformance: Option<&Path>, size: &str) -> Result<String, String> {
+    let spec0 = scene_files(root, conformance)
+        .get("spec0")
+        .and_then(|p| std::fs::metadata(p).ok())
+        .map_or(0, |m| m.len());
+    let mut out = String::from(
+        "\n## Flash by part\n\nThe renderer alone (a scene written in Rust source, no parser \
+         linked), and with the parser and one scene file (spec0, {spec0} bytes of text) added; \
+         the parser's cost is the difference less the text. Bytes of `.vector_table + .text + \
+         .rodata + .data`, release builds with LTO.\n\n\
+         | machine | number | renderer + scene in source | + parser + spec0.txt | parser |\n|---|---|---|---|---|\n",
+    )
+    .replace("{spec0}", &spec0.to_string());
+    for build in BUILDS.iter().filter(|b| (b.machine, b.number) == ("mps2-an386", "f32") || (b.machine, b.number) == ("microbit", "fixed")) {
+        let source_only = inspect(&build_firmware(root, build, conformance, size, "none")?)?.1.flash;
+        let with_parser = inspect(&build_firmware(root, build, conformance, size, "spec0")?)?.1.flash;
+        let _ = writeln!(
+            out,
+            "| {} | {} | {source_only} | {with_parser} | {} |",
+            build.machine,
+            if build.number == "fixed" { "i16f16" } else { build.number },
+            with_parser.saturating_sub(source_only).saturating_sub(spec0)
+        );
+    }
+    Ok(out)
 }
 
 fn table(rows: &[Row], sizes: &BTreeMap<(&str, &str), Size>, width: u16, height: u16) -> String {

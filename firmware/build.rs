@@ -25,8 +25,10 @@ fn main() {
     println!("cargo:rerun-if-env-changed=MICRORAY_FW_SIZE");
     println!("cargo:rerun-if-env-changed=MICRORAY_FW_ONLY");
     // A comma-separated list of scene names to embed (all when unset), for profiling.
-    let only: Option<Vec<String>> =
-        env::var("MICRORAY_FW_ONLY").ok().filter(|s| !s.is_empty()).map(|s| s.split(',').map(str::to_string).collect());
+    let only: Option<Vec<String>> = env::var("MICRORAY_FW_ONLY")
+        .ok()
+        .filter(|s| !s.is_empty())
+        .map(|s| s.split(',').map(str::to_string).collect());
 
     let size = env::var("MICRORAY_FW_SIZE").unwrap_or_else(|_| "160x120".into());
     let (width, height) = size

@@ -490,15 +490,28 @@ fn flash_by_part(root: &Path, conformance: Option<&Path>, size: &str) -> Result<
          | machine | number | renderer + scene in source | + parser + spec0.txt | parser |\n|---|---|---|---|---|\n",
     )
     .replace("{spec0}", &spec0.to_string());
-    for build in BUILDS.iter().filter(|b| (b.machine, b.number) == ("mps2-an386", "f32") || (b.machine, b.number) == ("microbit", "fixed")) {
-        let source_only = inspect(&build_firmware(root, build, conformance, size, "none")?)?.1.flash;
-        let with_parser = inspect(&build_firmware(root, build, conformance, size, "spec0")?)?.1.flash;
+    for build in BUILDS.iter().filter(|b| {
+        (b.machine, b.number) == ("mps2-an386", "f32")
+            || (b.machine, b.number) == ("microbit", "fixed")
+    }) {
+        let source_only = inspect(&build_firmware(root, build, conformance, size, "none")?)?
+            .1
+            .flash;
+        let with_parser = inspect(&build_firmware(root, build, conformance, size, "spec0")?)?
+            .1
+            .flash;
         let _ = writeln!(
             out,
             "| {} | {} | {source_only} | {with_parser} | {} |",
             build.machine,
-            if build.number == "fixed" { "i16f16" } else { build.number },
-            with_parser.saturating_sub(source_only).saturating_sub(spec0)
+            if build.number == "fixed" {
+                "i16f16"
+            } else {
+                build.number
+            },
+            with_parser
+                .saturating_sub(source_only)
+                .saturating_sub(spec0)
         );
     }
     Ok(out)

@@ -63,8 +63,13 @@ impl<S: Scalar> Plane<S> {
         if n_dot_dir == S::ZERO {
             return None;
         }
-        let t = (self.n_dot_point - self.unit_normal.dot(ray.base)) / n_dot_dir;
-        ahead(ray, t, self.unit_normal)
+        let distance = self.n_dot_point - self.unit_normal.dot(ray.base);
+        // t <= 0 unless both have the same sign: skip the division (the costliest step in
+        // fixed point) for planes behind the ray.
+        if (distance > S::ZERO) != (n_dot_dir > S::ZERO) || distance == S::ZERO {
+            return None;
+        }
+        ahead(ray, distance / n_dot_dir, self.unit_normal)
     }
 
     /// Writes `normal` and `point`.

@@ -17,6 +17,7 @@
 //! The float types keep the plain left-to-right order the course's images need.
 
 pub mod fixed;
+mod wide;
 
 pub use fixed::I16F16;
 

@@ -1,0 +1,340 @@
+//! 32x32 -> 64-bit arithmetic for the fixed-point type, written for Cortex-M0.
+//!
+//! ARMv6-M has a 32x32 -> 32 multiply and nothing wider, no divide and no CLZ: Rust's `i64`
+//! products become calls to a general 64x64 multiply (`__aeabi_lmul`) and divisions a
+//! software 64-bit divide of 300 instructions and more. Here products are built from four
+//! 16x16 multiplies, and division and square root from a table and Newton's method
+//! (multiplies only), corrected to the exact result. Elsewhere (Cortex-M4, RISC-V with M,
+//! hosts) the plain 64-bit forms compile to one or two instructions and are used instead.
+
+/// Whether this target lacks a 32x32 -> 64 multiply (ARMv6-M: also the only Arm profile
+/// without compare-and-swap atomics, which is how `cfg` can tell).
+#[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
+const HALVES: bool = true;
+#[cfg(not(all(target_arch = "arm", not(target_has_atomic = "32"))))]
+const HALVES: bool = false;
+
+/// The full product of two `u32`.
+#[inline]
+pub(crate) fn mul_u32(a: u32, b: u32) -> u64 {
+    if HALVES {
+        mul_u32_halves(a, b)
+    } else {
+        u64::from(a) * u64::from(b)
+    }
+}
+
+/// [`mul_u32`] from four 16x16 products.
+#[inline]
+fn mul_u32_halves(a: u32, b: u32) -> u64 {
+    let (al, ah) = (a & 0xffff, a >> 16);
+    let (bl, bh) = (b & 0xffff, b >> 16);
+    // Each partial product is below 2^32.
+    let middle = u64::from(al * bh) + u64::from(ah * bl);
+    (u64::from(ah * bh) << 32) + (middle << 16) + u64::from(al * bl)
+}
+
+/// The full product of two `i32`.
+#[inline]
+pub(crate) fn mul_i32(a: i32, b: i32) -> i64 {
+    if HALVES {
+        mul_i32_halves(a, b)
+    } else {
+        i64::from(a) * i64::from(b)
+    }
+}
+
+/// [`mul_i32`] from four 16x16 products.
+#[inline]
+fn mul_i32_halves(a: i32, b: i32) -> i64 {
+    // a = ah 2^16 + al with ah signed, al in 0..2^16: every partial product fits 32 bits.
+    let (al, ah) = (a & 0xffff, a >> 16);
+    let (bl, bh) = (b & 0xffff, b >> 16);
+    let middle = i64::from(ah * bl) + i64::from(al * bh);
+    let low = (al as u32) * (bl as u32);
+    (i64::from(ah * bh) << 32) + (middle << 16) + i64::from(low)
+}
+
+/// `v >> s` for any `s` (0 from 64 on), without a call to a 64-bit shift routine.
+#[inline]
+pub(crate) fn shr_u64(v: u64, s: u32) -> u64 {
+    if HALVES {
+        shr_u64_halves(v, s)
+    } else {
+        v.checked_shr(s).unwrap_or(0)
+    }
+}
+
+/// [`shr_u64`] on 32-bit halves.
+#[inline]
+fn shr_u64_halves(v: u64, s: u32) -> u64 {
+    let (low, high) = (v as u32, (v >> 32) as u32);
+    match s {
+        0 => v,
+        1..=31 => (u64::from(high >> s) << 32) | u64::from((low >> s) | (high << (32 - s))),
+        _ => u64::from(high.checked_shr(s - 32).unwrap_or(0)),
+    }
+}
+
+/// Leading zeros of a non-zero `u64`.
+#[inline]
+fn leading_zeros_u64(v: u64) -> u32 {
+    let high = (v >> 32) as u32;
+    if high != 0 {
+        high.leading_zeros()
+    } else {
+        32 + (v as u32).leading_zeros()
+    }
+}
+
+/// `2^63 / m` to 8 bits for `m = (128 + i + 1/2) 2^24`, `i` the table index: the first
+/// guess of the reciprocal. (Indexing in a constant cannot fail at run time: a bad index
+/// would not compile.)
+#[allow(clippy::indexing_slicing)]
+const RECIPROCALS: [u32; 128] = {
+    let mut table = [0u32; 128];
+    let mut i = 0;
+    while i < 128 {
+        let middle = (256 + 2 * i as u64 + 1) << 23;
+        table[i] = ((1u64 << 63) / middle) as u32;
+        i += 1;
+    }
+    table
+};
+
+/// About `2^63 / n` for `n` in `[2^31, 2^32)`, within 2^-28 relative: a table, then two
+/// Newton steps `y (2 - n y)`.
+#[inline]
+fn reciprocal_estimate(n: u32) -> u32 {
+    let mut y = RECIPROCALS
+        .get(((n >> 24) & 0x7f) as usize)
+        .copied()
+        .unwrap_or(u32::MAX);
+    for _ in 0..2 {
+        // e = 2^64 - n y, about 2^63; y (e / 2^63) from its top 32 bits.
+        let e = mul_u32(n, y).wrapping_neg();
+        let next = mul_u32(y, (e >> 32) as u32) >> 31;
+        y = u32::try_from(next).unwrap_or(u32::MAX);
+    }
+    y
+}
+
+/// A divisor prepared for division: its magnitude, normalised, and its reciprocal.
+#[derive(Clone, Copy)]
+pub(crate) struct Divisor {
+    magnitude: u32,
+    zeros: u32,
+    reciprocal: u32,
+}
+
+impl Divisor {
+    /// `None` for zero.
+    #[inline]
+    pub(crate) fn new(magnitude: u32) -> Option<Self> {
+        if magnitude == 0 {
+            return None;
+        }
+        let zeros = magnitude.leading_zeros();
+        Some(Self {
+            magnitude,
+            zeros,
+            reciprocal: reciprocal_estimate(magnitude << zeros),
+        })
+    }
+
+    /// `floor(x 2^16 / magnitude)`, or `None` when it is 2^31 or more: the division of a
+    /// Q16.16 number, with one product for the estimate (the numerator's low 16 bits are 0).
+    #[inline]
+    pub(crate) fn divide_q16(&self, x: u32) -> Option<u32> {
+        // x 2^16 / m = x 2^16 2^zeros r / 2^63 = (x r) >> (47 - zeros), zeros in 0..=31.
+        let estimate = shr_u64(mul_u32(x, self.reciprocal), 47 - self.zeros);
+        self.correct(estimate, u64::from(x) << 16)
+    }
+
+    /// `floor(numerator / magnitude)` for a 48-bit `numerator`, or `None` when the quotient
+    /// is 2^31 or more: the estimate `numerator * 2^zeros * r / 2^63`, then corrected by
+    /// the remainder, so the result is exact.
+    #[inline]
+    pub(crate) fn divide(&self, numerator: u64) -> Option<u32> {
+        // numerator < 2^48 and r < 2^32: split the numerator to keep products in 64 bits.
+        let high = (numerator >> 16) as u32;
+        let low = (numerator & 0xffff) as u32;
+        let product = mul_u32(high, self.reciprocal) + (mul_u32(low, self.reciprocal) >> 16);
+        let estimate = shr_u64(product, 47 - self.zeros);
+        self.correct(estimate, numerator)
+    }
+
+    /// The exact quotient from an estimate within a few units of it.
+    #[inline]
+    fn correct(&self, estimate: u64, numerator: u64) -> Option<u32> {
+        // Above the range by more than the estimate's error (a few units near 2^31, where
+        // the reciprocal's 2^-30 matters): the caller saturates.
+        if estimate >= (1 << 31) + 4096 {
+            return None;
+        }
+        let mut q = estimate as u32;
+        let mut back = mul_u32(q, self.magnitude);
+        while back > numerator {
+            q = q.wrapping_sub(1);
+            back -= u64::from(self.magnitude);
+        }
+        while numerator - back >= u64::from(self.magnitude) {
+            q = q.wrapping_add(1);
+            back += u64::from(self.magnitude);
+        }
+        (q < 1 << 31).then_some(q)
+    }
+}
+
+/// `1 / sqrt(x)` for `x = (64 + i + 1/2) / 256` in Q2.30: the first guess of the reciprocal
+/// square root, `i` the table index (`x` in `[1/4, 1)`).
+#[allow(clippy::indexing_slicing)]
+const RECIPROCAL_ROOTS: [u32; 192] = {
+    let mut table = [0u32; 192];
+    let mut i = 0;
+    while i < 192 {
+        // y = sqrt(512 / (128 + 2i + 1)) 2^30, by bisection on y^2 (x + 1/512 ... ) in integers.
+        let denominator = 128 + 2 * i as u64 + 1; // x = denominator / 512
+        // Largest y with y^2 * denominator <= 512 * 2^60.
+        let target = 512u128 << 60;
+        let (mut low, mut high) = (1u64 << 30, 1u64 << 31);
+        while low < high {
+            let middle = (low + high).div_ceil(2);
+            if (middle as u128) * (middle as u128) * (denominator as u128) <= target {
+                low = middle;
+            } else {
+                high = middle - 1;
+            }
+        }
+        table[i] = low as u32;
+        i += 1;
+    }
+    table
+};
+
+/// `floor(sqrt(n))`, exact: a table and two Newton steps of the reciprocal square root
+/// (multiplies only), then corrected with exact squares. Used on every target, so that the
+/// same code is tested on the host.
+#[inline]
+pub(crate) fn isqrt(n: u64) -> u32 {
+    if n == 0 {
+        return 0;
+    }
+    // n = m / 2^(2k), m in [2^62, 2^64); x = m / 2^64 in [1/4, 1).
+    let k = leading_zeros_u64(n) / 2;
+    let m = n << (2 * k);
+    let h = (m >> 32) as u32;
+    let mut y = RECIPROCAL_ROOTS
+        .get(((h >> 24) as usize).saturating_sub(64))
+        .copied()
+        .unwrap_or(1 << 30);
+    for _ in 0..2 {
+        // y (3 - x y^2) / 2 in Q2.30.
+        let square = u32::try_from(mul_u32(y, y) >> 30).unwrap_or(u32::MAX);
+        let xy2 = (mul_u32(h, square) >> 32) as u32;
+        let three_minus = (3u32 << 30).saturating_sub(xy2);
+        y = u32::try_from(mul_u32(y, three_minus) >> 31).unwrap_or(u32::MAX);
+    }
+    // sqrt(x) 2^32 = x y 2^32, then undo the normalisation.
+    let root = u32::try_from(mul_u32(h, y) >> 30).unwrap_or(u32::MAX);
+    let mut s = root >> k;
+    while s > 0 && mul_u32(s, s) > n {
+        s -= 1;
+    }
+    while s < u32::MAX && mul_u32(s + 1, s + 1) <= n {
+        s += 1;
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[test]
+    fn extremes() {
+        for (a, b) in [
+            (i32::MIN, i32::MIN),
+            (i32::MIN, i32::MAX),
+            (i32::MAX, i32::MAX),
+            (-1, i32::MIN),
+            (0, -5),
+        ] {
+            assert_eq!(mul_i32_halves(a, b), i64::from(a) * i64::from(b), "{a} {b}");
+        }
+        assert_eq!(
+            mul_u32_halves(u32::MAX, u32::MAX),
+            u64::from(u32::MAX) * u64::from(u32::MAX)
+        );
+        assert_eq!(isqrt(u64::MAX), u32::MAX);
+        assert_eq!(isqrt(1), 1);
+        assert_eq!(isqrt(3), 1);
+        assert_eq!(isqrt(4), 2);
+        let d = Divisor::new(1).unwrap();
+        assert_eq!(d.divide((1 << 31) - 1), Some(u32::MAX >> 1));
+        assert_eq!(d.divide(1 << 31), None);
+        assert_eq!(Divisor::new(0).map(|_| ()), None);
+        let big = Divisor::new(u32::MAX).unwrap();
+        assert_eq!(big.divide((1 << 48) - 1), Some(65536));
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(200_000))]
+
+        #[test]
+        fn products_are_exact(a: i32, b: i32, c: u32, d: u32) {
+            prop_assert_eq!(mul_i32_halves(a, b), i64::from(a) * i64::from(b));
+            prop_assert_eq!(mul_u32_halves(c, d), u64::from(c) * u64::from(d));
+            prop_assert_eq!(mul_i32(a, b), i64::from(a) * i64::from(b));
+        }
+
+        #[test]
+        fn shifts_are_exact(v: u64, s in 0u32..70) {
+            prop_assert_eq!(shr_u64_halves(v, s), v.checked_shr(s).unwrap_or(0));
+            prop_assert_eq!(shr_u64(v, s), v.checked_shr(s).unwrap_or(0));
+        }
+
+        #[test]
+        fn division_is_exact(n in 0u64..(1 << 48), m in 1u32..) {
+            let q = n / u64::from(m);
+            let got = Divisor::new(m).unwrap().divide(n);
+            if q < 1 << 31 {
+                prop_assert_eq!(got, Some(q as u32));
+            } else {
+                prop_assert_eq!(got, None);
+            }
+        }
+
+        #[test]
+        fn q16_division_is_exact(x: u32, m in 1u32..) {
+            let q = (u64::from(x) << 16) / u64::from(m);
+            prop_assert_eq!(Divisor::new(m).unwrap().divide_q16(x), (q < 1 << 31).then_some(q as u32));
+        }
+
+        #[test]
+        fn q16_division_near_the_top_is_exact(q in (1u64 << 30)..(1u64 << 32), m in 1u32..200_000) {
+            // Numerators whose quotient is near 2^31, where the estimate's error is largest.
+            let x = ((q * u64::from(m)) >> 16).min(u64::from(u32::MAX)) as u32;
+            let exact = (u64::from(x) << 16) / u64::from(m);
+            prop_assert_eq!(Divisor::new(m).unwrap().divide_q16(x), (exact < 1 << 31).then_some(exact as u32));
+        }
+
+        #[test]
+        fn small_divisors_are_exact(n in 0u64..(1 << 40), m in 1u32..70_000) {
+            let q = n / u64::from(m);
+            let got = Divisor::new(m).unwrap().divide(n);
+            prop_assert_eq!(got, (q < 1 << 31).then_some(q as u32));
+        }
+
+        #[test]
+        fn square_roots_are_exact(n: u64) {
+            prop_assert_eq!(isqrt(n), n.isqrt() as u32);
+        }
+
+        #[test]
+        fn square_roots_of_small_numbers_are_exact(n in 0u64..(1 << 40)) {
+            prop_assert_eq!(isqrt(n), n.isqrt() as u32);
+        }
+    }
+}

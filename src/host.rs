@@ -107,3 +107,82 @@ pub fn read_ppm(bytes: &[u8]) -> Option<Framebuffer> {
         rgb: pixels.to_vec(),
     })
 }
+
+/// How an image differs from a reference, pixel by pixel: the error measures of the parity
+/// tests and the benchmarks.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Difference {
+    /// Pixels compared.
+    pub pixels: usize,
+    /// Pixels equal in every channel.
+    pub identical: usize,
+    /// Pixels no channel of which is off by more than 1.
+    pub within_one: usize,
+    /// The largest channel difference.
+    pub largest: u8,
+    /// The sum of squared channel differences.
+    pub squared: f64,
+}
+
+impl Difference {
+    /// Compares two RGB images (three bytes a pixel) of the same size, leaving out the
+    /// pixels for which `skip(index)` holds.
+    pub fn between(reference: &[u8], other: &[u8], skip: impl Fn(usize) -> bool) -> Self {
+        let mut d = Self::default();
+        for (i, (a, b)) in reference.chunks(3).zip(other.chunks(3)).enumerate() {
+            if skip(i) {
+                continue;
+            }
+            let worst = a
+                .iter()
+                .zip(b)
+                .map(|(x, y)| x.abs_diff(*y))
+                .max()
+                .unwrap_or(0);
+            d.pixels += 1;
+            d.identical += usize::from(worst == 0);
+            d.within_one += usize::from(worst <= 1);
+            d.largest = d.largest.max(worst);
+            d.squared += a
+                .iter()
+                .zip(b)
+                .map(|(x, y)| f64::from(x.abs_diff(*y)).powi(2))
+                .sum::<f64>();
+        }
+        d
+    }
+
+    /// Identical pixels, in percent.
+    pub fn identical_percent(&self) -> f64 {
+        100.0 * self.identical as f64 / self.pixels.max(1) as f64
+    }
+
+    /// Pixels within ±1 in every channel, in percent.
+    pub fn within_one_percent(&self) -> f64 {
+        100.0 * self.within_one as f64 / self.pixels.max(1) as f64
+    }
+
+    /// Peak signal-to-noise ratio in dB over all channels (infinite for identical images).
+    pub fn psnr(&self) -> f64 {
+        let mse = self.squared / (3 * self.pixels.max(1)) as f64;
+        if mse == 0.0 {
+            f64::INFINITY
+        } else {
+            10.0 * (255.0f64 * 255.0 / mse).log10()
+        }
+    }
+}
+
+/// The object each pixel sees, rows top first (the object-id view).
+pub fn object_ids<S: crate::Scalar>(
+    renderer: &crate::render::Renderer<'_, S>,
+) -> Vec<Option<usize>> {
+    let size = renderer.size();
+    let (width, height) = (
+        u16::try_from(size.width).unwrap_or(0),
+        u16::try_from(size.height).unwrap_or(0),
+    );
+    (0..height)
+        .flat_map(|row| (0..width).map(move |x| renderer.object_at(x, row)))
+        .collect()
+}

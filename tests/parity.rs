@@ -8,7 +8,7 @@ use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
 use embedded_graphics::prelude::*;
 use embedded_graphics_simulator::SimulatorDisplay;
 use microray::Scalar;
-use microray::host::{Framebuffer, HostScene, texture_files};
+use microray::host::{Difference, Framebuffer, HostScene, object_ids, texture_files};
 use microray::object::Shape;
 use microray::parse::parse_scene;
 use microray::render::{Renderer, render};
@@ -34,17 +34,6 @@ fn load<S: Scalar>(path: &Path) -> HostScene<'static, S> {
         .unwrap_or_else(|e| panic!("{} in {}: {e}", path.display(), S::NAME))
 }
 
-fn ids<S: Scalar>(renderer: &Renderer<'_, S>) -> Vec<Option<usize>> {
-    let size = renderer.size();
-    let mut ids = Vec::new();
-    for row in 0..size.height as u16 {
-        for x in 0..size.width as u16 {
-            ids.push(renderer.object_at(x, row));
-        }
-    }
-    ids
-}
-
 /// The std tracer: f64 into the host framebuffer.
 fn reference(path: &Path) -> Image {
     let scene = load::<f64>(path);
@@ -56,7 +45,7 @@ fn reference(path: &Path) -> Image {
     Image {
         width: renderer.size().width as usize,
         rgb,
-        ids: ids(&renderer),
+        ids: object_ids(&renderer),
         ties,
     }
 }
@@ -109,7 +98,7 @@ fn no_std<S: Scalar>(path: &Path) -> Image {
     Image {
         width: size.width as usize,
         rgb,
-        ids: ids(&renderer),
+        ids: object_ids(&renderer),
         ties: Vec::new(),
     }
 }
@@ -166,46 +155,31 @@ fn within_local_contrast(reference: &Image, i: usize, colour: [u8; 3]) -> bool {
 }
 
 fn compare(reference: &Image, other: &Image) -> Stats {
-    let n = reference.rgb.len();
-    assert_eq!(n, other.rgb.len());
-    let (mut identical, mut within_one, mut max_difference, mut squares, mut off_edge) =
-        (0, 0, 0u8, 0f64, 0);
-    let ties = reference.ties.iter().filter(|&&t| t).count();
+    assert_eq!(reference.rgb.len(), other.rgb.len());
+    let bytes = |image: &Image| image.rgb.iter().flatten().copied().collect::<Vec<u8>>();
+    let pixels = Difference::between(&bytes(reference), &bytes(other), |i| reference.ties[i]);
+    let mut off_edge = 0;
     let mut id_mismatches = 0;
-    for i in 0..n {
-        if reference.ties[i] {
-            continue;
-        }
+    for i in (0..reference.rgb.len()).filter(|&i| !reference.ties[i]) {
         id_mismatches += usize::from(reference.ids[i] != other.ids[i]);
-        let d = difference(reference.rgb[i], other.rgb[i]);
-        identical += usize::from(d == 0);
-        within_one += usize::from(d <= 1);
-        max_difference = max_difference.max(d);
-        for c in 0..3 {
-            squares += f64::from(reference.rgb[i][c].abs_diff(other.rgb[i][c])).powi(2);
-        }
-        if d > 1 && !within_local_contrast(reference, i, other.rgb[i]) {
+        if difference(reference.rgb[i], other.rgb[i]) > 1
+            && !within_local_contrast(reference, i, other.rgb[i])
+        {
             off_edge += 1;
         }
     }
-    let counted = n - ties;
-    let mse = squares / (3 * counted) as f64;
     let seen = |image: &Image| image.ids.iter().flatten().copied().collect::<BTreeSet<_>>();
     let (before, after) = (seen(reference), seen(other));
     Stats {
-        identical: 100.0 * identical as f64 / counted as f64,
-        within_one: 100.0 * within_one as f64 / counted as f64,
-        max_difference,
-        psnr: if mse == 0.0 {
-            f64::INFINITY
-        } else {
-            10.0 * (255.0f64 * 255.0 / mse).log10()
-        },
+        identical: pixels.identical_percent(),
+        within_one: pixels.within_one_percent(),
+        max_difference: pixels.largest,
+        psnr: pixels.psnr(),
         id_mismatches,
         appeared: after.difference(&before).copied().collect(),
         vanished: before.difference(&after).copied().collect(),
         off_edge,
-        ties,
+        ties: reference.ties.iter().filter(|&&t| t).count(),
     }
 }
 

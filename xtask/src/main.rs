@@ -6,6 +6,7 @@
 //!   the host's render of the same scene, number type and size; prints the table (and writes
 //!   it to `docs/firmware.md`). Exits non-zero on any difference or failure.
 
+mod bench;
 mod qemu;
 
 use std::process::ExitCode;
@@ -14,6 +15,7 @@ fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
         Some("qemu") => qemu::run(&args[1..]),
+        Some("bench") => bench::run(&args[1..]),
         _ => Err("usage: cargo xtask qemu [--size WIDTHxHEIGHT]".to_string()),
     };
     match result {

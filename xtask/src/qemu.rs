@@ -17,13 +17,13 @@ mod static_scene;
 
 /// Options of `cargo xtask qemu`.
 #[derive(Default)]
-struct Options {
+pub(crate) struct Options {
     /// Only these scenes (comma-separated); all when empty.
-    only: String,
+    pub(crate) only: String,
     /// Count instructions by function as well.
-    profile: bool,
+    pub(crate) profile: bool,
     /// Only this build (`mps2-an386-f32`, `microbit-fixed`, ...).
-    build: Option<String>,
+    pub(crate) build: Option<String>,
 }
 
 /// One firmware build: a machine and a number type.
@@ -67,21 +67,21 @@ const BUILDS: [Build; 4] = [
 ];
 
 /// What one frame cost and whether it matched.
-struct Row {
-    scene: String,
-    machine: &'static str,
-    number: &'static str,
-    identical: Result<bool, String>,
-    insns: u64,
-    vdiv: u64,
-    vsqrt: u64,
-    stack: u64,
+pub(crate) struct Row {
+    pub(crate) scene: String,
+    pub(crate) machine: &'static str,
+    pub(crate) number: &'static str,
+    pub(crate) identical: Result<bool, String>,
+    pub(crate) insns: u64,
+    pub(crate) vdiv: u64,
+    pub(crate) vsqrt: u64,
+    pub(crate) stack: u64,
 }
 
 /// Flash and static RAM of a build, from its ELF sections.
-struct Size {
-    flash: u64,
-    ram: u64,
+pub(crate) struct Size {
+    pub(crate) flash: u64,
+    pub(crate) ram: u64,
 }
 
 pub fn run(args: &[String]) -> Result<(), String> {
@@ -103,16 +103,78 @@ pub fn run(args: &[String]) -> Result<(), String> {
         .split_once('x')
         .and_then(|(w, h)| Some((w.parse::<u16>().ok()?, h.parse::<u16>().ok()?)))
         .ok_or("--size takes WIDTHxHEIGHT")?;
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"))
+    let root = root()?;
+    let measurement = measure(&root, width, height, &options)?;
+    let mut table = table(&measurement.rows, &measurement.sizes, width, height);
+    let complete = options.only.is_empty() && options.build.is_none() && size == "160x120";
+    if complete {
+        table.push_str(&flash_by_part(
+            &root,
+            conformance_dir(&root).as_deref(),
+            &size,
+        )?);
+    }
+    println!("{table}");
+    if complete {
+        std::fs::create_dir_all(root.join("docs")).map_err(|e| e.to_string())?;
+        std::fs::write(root.join("docs/firmware.md"), &table).map_err(|e| e.to_string())?;
+    }
+    measurement.check()
+}
+
+/// The repository's root.
+pub(crate) fn root() -> Result<PathBuf, String> {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("..")
         .canonicalize()
-        .map_err(|e| e.to_string())?;
-    let conformance = conformance_dir(&root);
+        .map_err(|e| e.to_string())
+}
+
+/// Frames and builds measured in QEMU.
+pub(crate) struct Measurement {
+    pub(crate) rows: Vec<Row>,
+    pub(crate) sizes: BTreeMap<(&'static str, &'static str), Size>,
+}
+
+impl Measurement {
+    /// An error listing every frame that differs from the host's.
+    pub(crate) fn check(&self) -> Result<(), String> {
+        let failed: Vec<String> = self
+            .rows
+            .iter()
+            .filter(|r| r.identical != Ok(true))
+            .map(|r| {
+                format!(
+                    "{} on {} in {}: {:?}",
+                    r.scene, r.machine, r.number, r.identical
+                )
+            })
+            .collect();
+        if failed.is_empty() {
+            Ok(())
+        } else {
+            Err(format!(
+                "frames differ from the host:\n{}",
+                failed.join("\n")
+            ))
+        }
+    }
+}
+
+/// Builds the firmware and the plugin, runs the builds `options` select in QEMU at `width`
+/// x `height`, and compares every frame with the host's.
+pub(crate) fn measure(
+    root: &Path,
+    width: u16,
+    height: u16,
+    options: &Options,
+) -> Result<Measurement, String> {
+    let conformance = conformance_dir(root);
     which("qemu-system-arm")
         .ok_or("qemu-system-arm is not installed (apt-get install qemu-system-arm)")?;
-
-    let plugin = build_plugin(&root)?;
-    let scenes = scene_files(&root, conformance.as_deref());
+    let size = format!("{width}x{height}");
+    let plugin = build_plugin(root)?;
+    let scenes = scene_files(root, conformance.as_deref());
     let mut rows = Vec::new();
     let mut sizes = BTreeMap::new();
     for build in &BUILDS {
@@ -120,12 +182,10 @@ pub fn run(args: &[String]) -> Result<(), String> {
         if options.build.as_ref().is_some_and(|only| *only != name) {
             continue;
         }
-        let elf = build_firmware(&root, build, conformance.as_deref(), &size, &options.only)?;
+        let elf = build_firmware(root, build, conformance.as_deref(), &size, &options.only)?;
         let (markers, size) = inspect(&elf)?;
         sizes.insert((build.machine, build.number), size);
-        let out = root
-            .join("target/qemu")
-            .join(format!("{}-{}", build.machine, build.number));
+        let out = root.join("target/qemu").join(&name);
         let _ = std::fs::remove_dir_all(&out);
         std::fs::create_dir_all(&out).map_err(|e| e.to_string())?;
         let started = Instant::now();
@@ -139,41 +199,12 @@ pub fn run(args: &[String]) -> Result<(), String> {
                 println!("{line}");
             }
         }
-        eprintln!(
-            "{} {}: ran in {:.1} s",
-            build.machine,
-            build.number,
-            started.elapsed().as_secs_f64()
-        );
+        eprintln!("{name}: ran in {:.1} s", started.elapsed().as_secs_f64());
         rows.extend(compare(
             build, &console, &log, &out, &scenes, width, height,
         )?);
     }
-    let mut table = table(&rows, &sizes, width, height);
-    if options.only.is_empty() && options.build.is_none() {
-        table.push_str(&flash_by_part(&root, conformance.as_deref(), &size)?);
-    }
-    println!("{table}");
-    std::fs::create_dir_all(root.join("docs")).map_err(|e| e.to_string())?;
-    std::fs::write(root.join("docs/firmware.md"), &table).map_err(|e| e.to_string())?;
-    let failed: Vec<String> = rows
-        .iter()
-        .filter(|r| r.identical != Ok(true))
-        .map(|r| {
-            format!(
-                "{} on {} in {}: {:?}",
-                r.scene, r.machine, r.number, r.identical
-            )
-        })
-        .collect();
-    if failed.is_empty() {
-        Ok(())
-    } else {
-        Err(format!(
-            "frames differ from the host:\n{}",
-            failed.join("\n")
-        ))
-    }
+    Ok(Measurement { rows, sizes })
 }
 
 fn which(program: &str) -> Option<PathBuf> {
@@ -184,7 +215,7 @@ fn which(program: &str) -> Option<PathBuf> {
         .find(|p| p.is_file())
 }
 
-fn conformance_dir(root: &Path) -> Option<PathBuf> {
+pub(crate) fn conformance_dir(root: &Path) -> Option<PathBuf> {
     let dir = std::env::var_os("MICRORAY_CONFORMANCE")
         .map(PathBuf::from)
         .unwrap_or_else(|| "../shared/conformance".into());
@@ -197,7 +228,7 @@ fn conformance_dir(root: &Path) -> Option<PathBuf> {
 }
 
 /// Scene name to file, in the firmware's order: course scenes, then the project's.
-fn scene_files(root: &Path, conformance: Option<&Path>) -> BTreeMap<String, PathBuf> {
+pub(crate) fn scene_files(root: &Path, conformance: Option<&Path>) -> BTreeMap<String, PathBuf> {
     let mut found = BTreeMap::new();
     let mut dirs: Vec<PathBuf> = conformance.map(Path::to_path_buf).into_iter().collect();
     dirs.push(root.join("scenes"));
@@ -220,7 +251,7 @@ fn scene_files(root: &Path, conformance: Option<&Path>) -> BTreeMap<String, Path
     found
 }
 
-fn cargo(args: &[&str], dir: &Path, envs: &[(&str, &str)]) -> Result<(), String> {
+pub(crate) fn cargo(args: &[&str], dir: &Path, envs: &[(&str, &str)]) -> Result<(), String> {
     let status = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
         .args(args)
         .current_dir(dir)

@@ -1,0 +1,404 @@
+//! `cargo xtask bench [--quick]`: run time against error for every number type on every
+//! scene, on the host (criterion) and on the emulated microcontrollers (exact instruction
+//! counts), written to `docs/benchmarks.md` with a plot in `docs/benchmarks.svg`.
+
+use crate::qemu::{self, Options, Row};
+use microray::Scalar;
+use microray::host::{Difference, Framebuffer, HostScene, object_ids, texture_files};
+use microray::parse::parse_scene;
+use microray::render::{Renderer, render};
+use microray::scalar::I16F16;
+use plotters::prelude::*;
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const NUMBERS: [&str; 3] = ["f64", "f32", "i16f16"];
+
+/// spec0 at 320x240, instructions per pixel of a straightforward generic tracer: the
+/// baselines the number-types issue measured.
+const BASELINES: [(&str, &str, f64, &str); 4] = [
+    ("mps2-an386", "f32", 558.0, "generic tracer, f32"),
+    (
+        "mps2-an386",
+        "fixed",
+        4982.0,
+        "I16F16 with the fixed crate's saturating ops",
+    ),
+    (
+        "microbit",
+        "fixed",
+        21859.0,
+        "I16F16 with the fixed crate's saturating ops; 7,511 hand-written",
+    ),
+    ("microbit", "f32", 14740.0, "soft-float f32"),
+];
+
+/// The error of one number type on one scene against f64.
+struct Error {
+    pixels: Difference,
+    id_mismatches: usize,
+}
+
+pub fn run(args: &[String]) -> Result<(), String> {
+    let quick = match args {
+        [] => false,
+        [flag] if flag == "--quick" => true,
+        _ => return Err("usage: cargo xtask bench [--quick]".into()),
+    };
+    let root = qemu::root()?;
+    let conformance = qemu::conformance_dir(&root);
+    let scenes = qemu::scene_files(&root, conformance.as_deref());
+
+    // Host run time: criterion, in one run so that ratios compare like with like.
+    let conformance_text = conformance
+        .as_ref()
+        .map(|p| p.display().to_string())
+        .unwrap_or_default();
+    let mut bench_args = vec!["bench", "--bench", "render", "--"];
+    if quick {
+        bench_args.extend(["--quick", "320x240"]);
+    }
+    qemu::cargo(
+        &bench_args,
+        &root,
+        &[("MICRORAY_CONFORMANCE", &conformance_text)],
+    )?;
+    let times = read_medians(&root.join("target/criterion"));
+
+    // Error against f64, at 320x240 (the size timed in both modes).
+    let mut errors = BTreeMap::new();
+    for (name, path) in &scenes {
+        let reference = host_image::<f64>(path)?;
+        for number in ["f32", "i16f16"] {
+            let other = if number == "f32" {
+                host_image::<f32>(path)?
+            } else {
+                host_image::<I16F16>(path)?
+            };
+            let pixels = Difference::between(&reference.0, &other.0, |_| false);
+            let id_mismatches = reference
+                .1
+                .iter()
+                .zip(&other.1)
+                .filter(|(a, b)| a != b)
+                .count();
+            errors.insert(
+                (name.clone(), number),
+                Error {
+                    pixels,
+                    id_mismatches,
+                },
+            );
+        }
+    }
+
+    // Microcontrollers: spec0 at 320x240 against the baselines; every scene at 160x120 in
+    // the full run.
+    let baseline = qemu::measure(
+        &root,
+        320,
+        240,
+        &Options {
+            only: "spec0".into(),
+            ..Options::default()
+        },
+    )?;
+    baseline.check()?;
+    let all = if quick {
+        None
+    } else {
+        let all = qemu::measure(&root, 160, 120, &Options::default())?;
+        all.check()?;
+        Some(all)
+    };
+
+    let report = report(
+        quick,
+        &scenes,
+        &times,
+        &errors,
+        &baseline.rows,
+        all.as_ref().map(|m| m.rows.as_slice()),
+    );
+    println!("{report}");
+    std::fs::create_dir_all(root.join("docs")).map_err(|e| e.to_string())?;
+    std::fs::write(root.join("docs/benchmarks.md"), &report).map_err(|e| e.to_string())?;
+    plot(&root.join("docs/benchmarks.svg"), &scenes, &times, &errors)?;
+    eprintln!("wrote docs/benchmarks.md and docs/benchmarks.svg");
+    Ok(())
+}
+
+/// The host's render of a scene at 320x240 in `S`, and the object each pixel sees.
+fn host_image<S: Scalar>(path: &Path) -> Result<(Vec<u8>, Vec<Option<usize>>), String> {
+    let text = std::fs::read(path).map_err(|e| e.to_string())?;
+    let mut scene: HostScene<'static, S> = parse_scene(
+        &text,
+        texture_files(path.parent().unwrap_or(Path::new("."))),
+    )
+    .map_err(|e| format!("{}: {e}", path.display()))?;
+    scene.set_resolution(320, 240).map_err(|e| e.to_string())?;
+    let mut image = Framebuffer::new(embedded_graphics::prelude::Size::new(320, 240));
+    render(&scene, &mut image).map_err(|e| e.to_string())?;
+    Ok((image.rgb().to_vec(), object_ids(&Renderer::new(&scene))))
+}
+
+/// Criterion's median (ns) of every benchmark, by `(scene, number, size)`.
+fn read_medians(dir: &Path) -> BTreeMap<(String, String, String), f64> {
+    let mut medians = BTreeMap::new();
+    for entry in std::fs::read_dir(dir).into_iter().flatten().flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        // Directory names are the ids with `/` as `_`: SCENE_NUMBER_SIZE (scene names may
+        // hold `_` too, so split from the right).
+        let mut parts = name.rsplitn(3, '_');
+        let (Some(size), Some(number), Some(scene)) = (parts.next(), parts.next(), parts.next())
+        else {
+            continue;
+        };
+        let file = entry.path().join("new/estimates.json");
+        let Ok(text) = std::fs::read_to_string(&file) else {
+            continue;
+        };
+        let Ok(json) = serde_json::from_str::<serde_json::Value>(&text) else {
+            continue;
+        };
+        if let Some(ns) = json
+            .pointer("/median/point_estimate")
+            .and_then(serde_json::Value::as_f64)
+        {
+            medians.insert(
+                (scene.to_string(), number.to_string(), size.to_string()),
+                ns,
+            );
+        }
+    }
+    medians
+}
+
+fn command_line(program: &str, args: &[&str]) -> String {
+    Command::new(program)
+        .args(args)
+        .output()
+        .ok()
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+        .unwrap_or_default()
+}
+
+fn machine() -> String {
+    let cpu = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|t| {
+            t.lines()
+                .find(|l| l.starts_with("model name"))
+                .map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown CPU".into());
+    let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
+    format!(
+        "{cpu}, {cores} cores; {}; {}",
+        command_line("rustc", &["--version"]),
+        command_line("qemu-system-arm", &["--version"])
+            .lines()
+            .next()
+            .unwrap_or("")
+    )
+}
+
+fn ms(
+    times: &BTreeMap<(String, String, String), f64>,
+    scene: &str,
+    number: &str,
+    size: &str,
+) -> Option<f64> {
+    times
+        .get(&(scene.to_string(), number.to_string(), size.to_string()))
+        .map(|ns| ns / 1e6)
+}
+
+fn count(rows: Option<&[Row]>, scene: &str, machine: &str, number: &str, pixels: f64) -> String {
+    let fixed = if number == "i16f16" { "fixed" } else { number };
+    rows.and_then(|rows| {
+        rows.iter()
+            .find(|r| r.scene == scene && r.machine == machine && r.number == fixed)
+    })
+    .map_or("—".into(), |r| format!("{:.0}", r.insns as f64 / pixels))
+}
+
+fn report(
+    quick: bool,
+    scenes: &BTreeMap<String, PathBuf>,
+    times: &BTreeMap<(String, String, String), f64>,
+    errors: &BTreeMap<(String, &str), Error>,
+    baseline: &[Row],
+    all: Option<&[Row]>,
+) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "# Run time against error\n\n\
+         Written by `cargo xtask bench{}` on {} on {}.\n\n\
+         Host times are criterion's medians{}, all from one run, so the ratios between number \
+         types compare like with like. Errors are against the f64 std tracer at 320x240: pixels \
+         identical, pixels within ±1 in every channel, the largest channel difference, PSNR, and \
+         pixels that see a different object. Microcontroller costs are exact instruction counts \
+         in QEMU 7.2 (`cargo xtask qemu`); VDIV and VSQRT take 14 cycles each on the M4F although \
+         they count as one instruction. The plot, [benchmarks.svg](benchmarks.svg), shows each \
+         scene's host run time against its error.\n",
+        if quick { " --quick" } else { "" },
+        command_line("date", &["-u", "+%Y-%m-%d"]),
+        machine(),
+        if quick {
+            " (criterion's quick mode: fewer samples)"
+        } else {
+            " (10 samples each)"
+        },
+    );
+    let _ = writeln!(
+        out,
+        "## Microcontrollers: spec0 at 320x240 against the baselines\n"
+    );
+    let _ = writeln!(
+        out,
+        "| machine | number | instructions/pixel | baseline | ratio to the baseline | VDIV/pixel | VSQRT/pixel |\n|---|---|---|---|---|---|---|"
+    );
+    let pixels = 320.0 * 240.0;
+    for (machine, number, base, what) in BASELINES {
+        if let Some(r) = baseline
+            .iter()
+            .find(|r| r.machine == machine && r.number == number && r.scene == "spec0")
+        {
+            let per_pixel = r.insns as f64 / pixels;
+            let _ = writeln!(
+                out,
+                "| {machine} | {} | {per_pixel:.0} | {base:.0} ({what}) | {:.2} | {:.2} | {:.2} |",
+                if number == "fixed" { "i16f16" } else { number },
+                per_pixel / base,
+                r.vdiv as f64 / pixels,
+                r.vsqrt as f64 / pixels
+            );
+        }
+    }
+    let _ = writeln!(
+        out,
+        "\n## Every scene and number type\n\n\
+         Host: milliseconds a frame at 320x240 and at the scene's own size (`native`), and the \
+         ratio to f64 at 320x240. Microcontrollers: instructions per pixel at 160x120 (the full \
+         run only).\n"
+    );
+    let _ = writeln!(
+        out,
+        "| scene | number | ms 320x240 | ratio to f64 | ms native | identical % | within ±1 % | max diff | PSNR dB | other object px | M4F instr/px | M0 instr/px |\n|---|---|---|---|---|---|---|---|---|---|---|---|"
+    );
+    let small = 160.0 * 120.0;
+    for name in scenes.keys() {
+        let base = ms(times, name, "f64", "320x240");
+        for number in NUMBERS {
+            let t = ms(times, name, number, "320x240");
+            let ratio = match (t, base) {
+                (Some(t), Some(b)) if b > 0.0 => format!("{:.2}", t / b),
+                _ => "—".into(),
+            };
+            let native =
+                ms(times, name, number, "native").map_or("—".into(), |v| format!("{v:.2}"));
+            let (identical, within, max, psnr, ids) = match errors.get(&(name.clone(), number)) {
+                Some(e) => (
+                    format!("{:.3}", e.pixels.identical_percent()),
+                    format!("{:.3}", e.pixels.within_one_percent()),
+                    e.pixels.largest.to_string(),
+                    format!("{:.1}", e.pixels.psnr()),
+                    e.id_mismatches.to_string(),
+                ),
+                None => (
+                    "reference".into(),
+                    String::new(),
+                    String::new(),
+                    String::new(),
+                    String::new(),
+                ),
+            };
+            let _ = writeln!(
+                out,
+                "| {name} | {number} | {} | {ratio} | {native} | {identical} | {within} | {max} | {psnr} | {ids} | {} | {} |",
+                t.map_or("—".into(), |v| format!("{v:.2}")),
+                if number == "f64" {
+                    "—".into()
+                } else {
+                    count(all, name, "mps2-an386", number, small)
+                },
+                if number == "f64" {
+                    "—".into()
+                } else {
+                    count(all, name, "microbit", number, small)
+                },
+            );
+        }
+    }
+    out
+}
+
+/// Host time at 320x240 against the share of pixels that differ from f64, per scene.
+fn plot(
+    file: &Path,
+    scenes: &BTreeMap<String, PathBuf>,
+    times: &BTreeMap<(String, String, String), f64>,
+    errors: &BTreeMap<(String, &str), Error>,
+) -> Result<(), String> {
+    let floor = 1e-3;
+    let mut points: BTreeMap<&str, Vec<(f64, f64)>> = BTreeMap::new();
+    for name in scenes.keys() {
+        for number in NUMBERS {
+            let Some(t) = ms(times, name, number, "320x240") else {
+                continue;
+            };
+            let error = errors
+                .get(&(name.clone(), number))
+                .map_or(floor, |e| (100.0 - e.pixels.identical_percent()).max(floor));
+            points.entry(number).or_default().push((error, t));
+        }
+    }
+    let max_t = points.values().flatten().map(|p| p.1).fold(1.0, f64::max) * 1.5;
+    let min_t = points.values().flatten().map(|p| p.1).fold(max_t, f64::min) / 1.5;
+    let root = SVGBackend::new(file, (900, 560)).into_drawing_area();
+    let e = |e: DrawingAreaErrorKind<std::io::Error>| e.to_string();
+    root.fill(&WHITE).map_err(e)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            "Host run time against error, per scene (320x240)",
+            ("sans-serif", 22),
+        )
+        .margin(16)
+        .x_label_area_size(48)
+        .y_label_area_size(70)
+        .build_cartesian_2d((floor * 0.7..100.0).log_scale(), (min_t..max_t).log_scale())
+        .map_err(e)?;
+    chart
+        .configure_mesh()
+        .x_desc("pixels not identical to f64, % (f64 itself drawn at 0.001)")
+        .y_desc("milliseconds a frame")
+        .draw()
+        .map_err(e)?;
+    let colors = [("f64", BLACK), ("f32", BLUE), ("i16f16", RED)];
+    for (number, color) in colors {
+        let Some(series) = points.get(number) else {
+            continue;
+        };
+        chart
+            .draw_series(
+                series
+                    .iter()
+                    .map(|&(x, y)| Circle::new((x, y), 5, color.filled())),
+            )
+            .map_err(e)?
+            .label(number)
+            .legend(move |(x, y)| Circle::new((x, y), 5, color.filled()));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE)
+        .border_style(BLACK)
+        .draw()
+        .map_err(e)?;
+    root.present().map_err(e)?;
+    Ok(())
+}

@@ -2,15 +2,17 @@
 //! `MICRORAY_CONFORMANCE`, the project's `scenes/` and `tests/scenes/`), at the scene's own
 //! size and at 320x240. The render only: parsing happens outside the measured loop.
 //!
-//! Benchmark ids are `SCENE/NUMBER/SIZE` (`spec0/f32/320x240`, `spec0/f64/native`);
-//! `cargo xtask bench` runs them and collects the medians.
+//! Benchmark ids are `SCENE/NUMBER/SIZE` (`spec0/f32/320x240`, `spec0/f64/native`), and
+//! `SCENE/NUMBER/noplan` for 320x240 without the render plan; `cargo xtask bench` runs them
+//! and collects the medians.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use microray::Scalar;
-use microray::host::{Framebuffer, HostScene, texture_files};
+use microray::host::{Framebuffer, HostRenderer, HostScene, texture_files};
 use microray::parse::parse_scene;
-use microray::render::render;
+use microray::render::{Renderer, render};
 use microray::scalar::I16F16;
+use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
@@ -57,6 +59,19 @@ fn bench_type<S: Scalar>(c: &mut Criterion, path: &Path) {
         c.bench_function(&format!("{name}/{}/{size}", S::NAME), |b| {
             b.iter(|| render(scene, &mut image).expect("renders"));
         });
+        if size == "320x240" {
+            let unplanned: HostRenderer<'_, S> = Renderer::new(scene).with_plan(false);
+            let all =
+                embedded_graphics::primitives::Rectangle::new(Default::default(), unplanned.size());
+            let mut row = vec![Default::default(); 320];
+            c.bench_function(&format!("{name}/{}/noplan", S::NAME), |b| {
+                b.iter(|| {
+                    unplanned
+                        .render_area(&mut image, all, &mut row, |_| ControlFlow::Continue(()))
+                        .expect("renders")
+                });
+            });
+        }
     }
 }
 

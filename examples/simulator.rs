@@ -13,7 +13,7 @@ use embedded_graphics::pixelcolor::Rgb565;
 use embedded_graphics::prelude::*;
 use embedded_graphics::primitives::Rectangle;
 use embedded_graphics_simulator::SimulatorDisplay;
-use microray::host::{HostScene, texture_files};
+use microray::host::{HostRenderer, HostScene, texture_files};
 use microray::parse::parse_scene;
 use microray::render::Renderer;
 use std::ops::ControlFlow;
@@ -39,7 +39,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 /// Writes the finished image to a PNG.
 #[cfg(not(feature = "sdl"))]
 fn show(
-    renderer: &Renderer<'_, f32>,
+    renderer: &HostRenderer<'_, f32>,
     display: &mut SimulatorDisplay<Rgb565>,
     row: &mut [Rgb565],
     output: Option<String>,
@@ -58,7 +58,7 @@ fn show(
 /// Opens a window and updates it after every row.
 #[cfg(feature = "sdl")]
 fn show(
-    renderer: &Renderer<'_, f32>,
+    renderer: &HostRenderer<'_, f32>,
     display: &mut SimulatorDisplay<Rgb565>,
     row: &mut [Rgb565],
     _output: Option<String>,

@@ -24,6 +24,12 @@ fn main() {
     println!("cargo:rerun-if-env-changed=MICRORAY_CONFORMANCE");
     println!("cargo:rerun-if-env-changed=MICRORAY_FW_SIZE");
     println!("cargo:rerun-if-env-changed=MICRORAY_FW_ONLY");
+    println!("cargo:rerun-if-env-changed=MICRORAY_FW_PLAN");
+    // `compare`: each scene is rendered twice, with the render plan and without.
+    let compare_plan = env::var("MICRORAY_FW_PLAN").is_ok_and(|v| v == "compare");
+    // Objects a scene holds: the micro:bit's 16 KiB of RAM has room for a few; the MPS2
+    // board's 4 MiB for the project's scene of a hundred spheres.
+    let objects: usize = if microbit { 6 } else { 128 };
     // A comma-separated list of scene names to embed (all when unset), for profiling.
     let only: Option<Vec<String>> = env::var("MICRORAY_FW_ONLY")
         .ok()
@@ -51,7 +57,7 @@ fn main() {
     // The micro:bit's 256 KiB of flash cannot hold the course's photographs (192 and 432 KiB).
     let texture_budget = if microbit { 16 * 1024 } else { usize::MAX };
     let mut table = String::from("pub const SCENES: &[SceneFile] = &[\n");
-    let mut skipped = String::from("pub const SKIPPED: &[&str] = &[\n");
+    let mut skipped = String::from("pub const SKIPPED: &[(&str, &str)] = &[\n");
     for path in files {
         let name = path.file_stem().unwrap().to_str().unwrap().to_string();
         if only.as_ref().is_some_and(|names| !names.contains(&name)) {
@@ -64,7 +70,14 @@ fn main() {
             .map(|(_, p)| fs::metadata(p).map(|m| m.len() as usize).unwrap_or(0))
             .sum();
         if bytes > texture_budget {
-            writeln!(skipped, "    {name:?},").unwrap();
+            let why = format!("its textures ({bytes} bytes) do not fit this machine's flash");
+            writeln!(skipped, "    ({name:?}, {why:?}),").unwrap();
+            continue;
+        }
+        let count = object_count(&text);
+        if count > objects {
+            let why = format!("its {count} objects do not fit this machine's RAM ({objects})");
+            writeln!(skipped, "    ({name:?}, {why:?}),").unwrap();
             continue;
         }
         println!("cargo:rerun-if-changed={}", path.display());
@@ -87,7 +100,9 @@ fn main() {
     table.push_str("];\n");
     skipped.push_str("];\n");
     let generated = format!(
-        "pub const WIDTH: u16 = {width};\npub const HEIGHT: u16 = {height};\n{table}{skipped}"
+        "pub const WIDTH: u16 = {width};\npub const HEIGHT: u16 = {height};\n\
+         pub const OBJECTS: usize = {objects};\npub const COMPARE_PLAN: bool = {compare_plan};\n\
+         {table}{skipped}"
     );
     fs::write(out.join("scenes.rs"), generated).unwrap();
 }
@@ -105,6 +120,24 @@ fn collect(dir: &Path, files: &mut Vec<PathBuf>) {
             files.push(path.canonicalize().unwrap());
         }
     }
+}
+
+/// How many objects a scene defines: its blocks opened by an object keyword.
+fn object_count(text: &str) -> usize {
+    let words: Vec<&str> = text
+        .lines()
+        .map(|l| l.split('#').next().unwrap_or(""))
+        .flat_map(str::split_whitespace)
+        .collect();
+    words
+        .windows(3)
+        .filter(|w| {
+            matches!(
+                w[0],
+                "plane" | "sphere" | "fplane" | "tiled_plane" | "texplane"
+            ) && w[2].starts_with('{')
+        })
+        .count()
 }
 
 /// The `filename` values of a scene and the files they name.

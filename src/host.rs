@@ -21,8 +21,14 @@ pub fn texture_files(scene_dir: &Path) -> impl FnMut(&str) -> Result<&'static [u
     }
 }
 
+/// Objects a [`HostScene`] holds.
+pub const HOST_OBJECTS: usize = 256;
+
 /// The scene type the host tracer uses: room for large scenes and wide images.
-pub type HostScene<'t, S> = crate::Scene<'t, S, 256, 64, 32, 16, 8192>;
+pub type HostScene<'t, S> = crate::Scene<'t, S, HOST_OBJECTS, 64, 32, 16, 8192>;
+
+/// The renderer of a [`HostScene`].
+pub type HostRenderer<'s, S> = crate::render::Renderer<'s, S, HOST_OBJECTS>;
 
 /// An RGB image in memory, rows top first: the host tracer's draw target.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -174,8 +180,8 @@ impl Difference {
 }
 
 /// The object each pixel sees, rows top first (the object-id view).
-pub fn object_ids<S: crate::Scalar>(
-    renderer: &crate::render::Renderer<'_, S>,
+pub fn object_ids<S: crate::Scalar, const OBJECTS: usize>(
+    renderer: &crate::render::Renderer<'_, S, OBJECTS>,
 ) -> Vec<Option<usize>> {
     let size = renderer.size();
     let (width, height) = (

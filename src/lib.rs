@@ -65,6 +65,7 @@ pub mod material;
 pub mod name;
 pub mod object;
 pub mod parse;
+pub mod plan;
 pub mod print;
 pub mod range;
 pub mod ray;

@@ -20,6 +20,8 @@
 //! ```
 
 use crate::camera::Camera;
+use crate::object::Among;
+use crate::plan::Plan;
 use crate::scalar::Scalar;
 use crate::scene::Scene;
 use crate::shade::Shader;
@@ -117,18 +119,21 @@ pub fn id_color(index: Option<usize>) -> Rgb888 {
     }
 }
 
-/// Computes pixels of a scene: the camera and the shader, with nothing borrowed mutably.
-#[derive(Clone, Copy, Debug)]
-pub struct Renderer<'s, S: Scalar> {
+/// Computes pixels of a scene: the camera, the shader and the scene's render plan, with
+/// nothing borrowed mutably. `OBJECTS` is the scene's object capacity (the plan's lists
+/// hold that many indices).
+#[derive(Clone, Debug)]
+pub struct Renderer<'s, S: Scalar, const OBJECTS: usize = 32> {
     camera: &'s Camera<S>,
     shader: Shader<'s, S>,
+    plan: Plan<OBJECTS>,
+    planned: bool,
     shading: Shading,
 }
 
-impl<'s, S: Scalar> Renderer<'s, S> {
-    /// A renderer for a scene.
+impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
+    /// A renderer for a scene, with its render plan (see [`crate::plan`]).
     pub fn new<
-        const OBJECTS: usize,
         const MATERIALS: usize,
         const LIGHTS: usize,
         const TEXTURES: usize,
@@ -136,9 +141,18 @@ impl<'s, S: Scalar> Renderer<'s, S> {
     >(
         scene: &'s Scene<'_, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>,
     ) -> Self {
+        let plan = Plan::new(
+            scene.camera(),
+            scene.materials(),
+            scene.lights(),
+            scene.objects(),
+            scene.z_limit(),
+        );
         Self {
             camera: scene.camera(),
             shader: Shader::new(scene.objects(), scene.lights(), scene.palette()),
+            plan,
+            planned: true,
             shading: Shading::Color,
         }
     }
@@ -146,6 +160,34 @@ impl<'s, S: Scalar> Renderer<'s, S> {
     /// The same renderer showing `shading`.
     pub fn with_shading(self, shading: Shading) -> Self {
         Self { shading, ..self }
+    }
+
+    /// The same renderer with its plan (`true`, the default) or without (`false`: every
+    /// stage runs and every ray is tested against every object). The pixels are the same
+    /// either way; without a plan is the reference the plan is tested against.
+    pub fn with_plan(self, planned: bool) -> Self {
+        Self { planned, ..self }
+    }
+
+    /// The render plan (also when it is switched off).
+    pub fn plan(&self) -> &Plan<OBJECTS> {
+        &self.plan
+    }
+
+    /// The shader with the plan's stages and objects, or everything without a plan.
+    fn shader(&self) -> Shader<'_, S> {
+        if self.planned {
+            let plan = &self.plan;
+            self.shader.planned(plan.stages(), Among::Only(plan.kept()))
+        } else {
+            self.shader
+        }
+    }
+
+    /// The objects primary rays of `row` (0 the top) can hit, by index; `None` means all.
+    fn row_objects(&self, row: u16) -> Option<heapless::Vec<u16, OBJECTS>> {
+        let y = self.camera.height().saturating_sub(1).saturating_sub(row);
+        self.planned.then(|| self.plan.objects_in_row(y))
     }
 
     /// The image size in pixels.
@@ -158,29 +200,58 @@ impl<'s, S: Scalar> Renderer<'s, S> {
 
     /// The radiance at pixel `(x, row)`, `row` 0 the top (before conversion to bytes).
     pub fn radiance(&self, x: u16, row: u16) -> Vec3<S> {
+        let objects = self.row_objects(row);
+        self.radiance_among(&self.shader(), x, row, among(&objects))
+    }
+
+    fn radiance_among(
+        &self,
+        shader: &Shader<'_, S>,
+        x: u16,
+        row: u16,
+        among: Among<'_>,
+    ) -> Vec3<S> {
         let y = self.camera.height().saturating_sub(1).saturating_sub(row);
         self.camera
             .primary_ray(x, y)
-            .map_or(Vec3::ZERO, |ray| self.shader.primary(&ray))
+            .map_or(Vec3::ZERO, |ray| shader.primary_among(&ray, among))
     }
 
     /// The index of the object seen at pixel `(x, row)`, if any: the object-id view used to
     /// check that a number type makes no object appear or vanish.
     pub fn object_at(&self, x: u16, row: u16) -> Option<usize> {
+        let objects = self.row_objects(row);
+        self.object_among(&self.shader(), x, row, among(&objects))
+    }
+
+    fn object_among(
+        &self,
+        shader: &Shader<'_, S>,
+        x: u16,
+        row: u16,
+        among: Among<'_>,
+    ) -> Option<usize> {
         let y = self.camera.height().saturating_sub(1).saturating_sub(row);
         self.camera
             .primary_ray(x, y)
-            .and_then(|ray| self.shader.first_object(&ray))
+            .and_then(|ray| shader.first_object_among(&ray, among))
     }
 
-    /// The colour at pixel `(x, row)`, `row` 0 the top.
+    /// The colour at pixel `(x, row)`, `row` 0 the top. Rendering a whole row through
+    /// [`render_area`](Self::render_area) works out the row's objects once instead of per
+    /// pixel.
     pub fn pixel(&self, x: u16, row: u16) -> Rgb888 {
+        let objects = self.row_objects(row);
+        self.pixel_among(&self.shader(), x, row, among(&objects))
+    }
+
+    fn pixel_among(&self, shader: &Shader<'_, S>, x: u16, row: u16, among: Among<'_>) -> Rgb888 {
         match self.shading {
             Shading::Color => {
-                let c = self.radiance(x, row);
+                let c = self.radiance_among(shader, x, row, among);
                 Rgb888::new(c.x.to_byte(), c.y.to_byte(), c.z.to_byte())
             }
-            Shading::Ids => id_color(self.object_at(x, row)),
+            Shading::Ids => id_color(self.object_among(shader, x, row, among)),
         }
     }
 
@@ -208,10 +279,13 @@ impl<'s, S: Scalar> Renderer<'s, S> {
         let left = u16::try_from(area.top_left.x).unwrap_or(0);
         let top = u16::try_from(area.top_left.y).unwrap_or(0);
         let total = u16::try_from(area.size.height).unwrap_or(0);
+        let shader = self.shader();
         for done in 1..=total {
             let y = top.saturating_add(done - 1);
+            let objects = self.row_objects(y);
+            let among = among(&objects);
             for (x, slot) in (left..).zip(row.iter_mut()) {
-                *slot = self.pixel(x, y).into();
+                *slot = self.pixel_among(&shader, x, y, among).into();
             }
             let line = Rectangle::new(
                 Point::new(area.top_left.x, i32::from(y)),
@@ -232,6 +306,13 @@ impl<'s, S: Scalar> Renderer<'s, S> {
         }
         Ok(Rendered::Complete)
     }
+}
+
+/// A row's list as the closest-hit search takes it.
+fn among<const N: usize>(objects: &Option<heapless::Vec<u16, N>>) -> Among<'_> {
+    objects
+        .as_ref()
+        .map_or(Among::All, |list| Among::Only(list))
 }
 
 /// Renders the whole image into `target` with a row buffer of the scene's `MAX_WIDTH` pixels

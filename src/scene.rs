@@ -148,7 +148,8 @@ impl<
 
     /// Adds an object; the materials and texture it names must already be there.
     pub fn add_object(&mut self, def: &ObjectDef<'_>) -> Result<(), ErrorKind> {
-        if self.objects.is_full() {
+        // The render plan names objects by u16 index.
+        if self.objects.is_full() || u16::try_from(self.objects.len()).is_err() {
             return Err(capacity_error(Collection::Objects, OBJECTS));
         }
         let object = Object::build(

@@ -20,7 +20,8 @@
 
 use crate::light::Light;
 use crate::material::Material;
-use crate::object::{Hit, Object, Palette, Z_LIMIT, closest_hit};
+use crate::object::{Among, Hit, Object, Palette, Z_LIMIT, any_hit_among, closest_hit_among};
+use crate::plan::Stages;
 use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;
@@ -41,10 +42,12 @@ pub struct Shader<'s, S: Scalar> {
     palette: Palette<'s, S>,
     max_distance: S,
     z_limit: S,
+    stages: Stages,
+    among: Among<'s>,
 }
 
 impl<'s, S: Scalar> Shader<'s, S> {
-    /// A shader over a scene's parts.
+    /// A shader over a scene's parts, with every stage on and every object tested.
     pub fn new(objects: &'s [Object<S>], lights: &'s [Light<S>], palette: Palette<'s, S>) -> Self {
         Self {
             objects,
@@ -52,26 +55,62 @@ impl<'s, S: Scalar> Shader<'s, S> {
             palette,
             max_distance: S::from_f64(MAX_DISTANCE * palette.scale),
             z_limit: S::from_f64(Z_LIMIT * palette.scale),
+            stages: Stages::ALL,
+            among: Among::All,
+        }
+    }
+
+    /// The same shader running only `stages` and testing rays only against `among` (a
+    /// render plan's; see [`crate::plan`]).
+    pub fn planned(self, stages: Stages, among: Among<'s>) -> Self {
+        Self {
+            stages,
+            among,
+            ..self
         }
     }
 
     /// The colour seen along a primary ray.
     pub fn primary(&self, ray: &Ray<S>) -> Vec3<S> {
-        self.trace(ray, S::ZERO, None, 0)
+        self.primary_among(ray, self.among)
+    }
+
+    /// The colour seen along a primary ray that can only hit the objects `among` (its
+    /// row's list); the rays it spawns test every object the shader tests.
+    pub fn primary_among(&self, ray: &Ray<S>, among: Among<'_>) -> Vec3<S> {
+        self.trace_among(ray, among, S::ZERO, None, 0)
     }
 
     /// The index of the object a primary ray sees first, if any (the object-id view).
     pub fn first_object(&self, ray: &Ray<S>) -> Option<usize> {
-        closest_hit(self.objects, ray, None, self.z_limit).map(|(index, _)| index)
+        self.first_object_among(ray, self.among)
+    }
+
+    /// [`first_object`](Self::first_object) among the objects of a row's list.
+    pub fn first_object_among(&self, ray: &Ray<S>, among: Among<'_>) -> Option<usize> {
+        closest_hit_among(self.objects, among, ray, None, self.z_limit).map(|(index, _)| index)
     }
 
     /// The course's `trace`: `total` is the distance travelled so far, `left_from` the object
     /// the ray leaves.
     pub fn trace(&self, ray: &Ray<S>, total: S, left_from: Option<usize>, depth: u8) -> Vec3<S> {
+        self.trace_among(ray, self.among, total, left_from, depth)
+    }
+
+    fn trace_among(
+        &self,
+        ray: &Ray<S>,
+        among: Among<'_>,
+        total: S,
+        left_from: Option<usize>,
+        depth: u8,
+    ) -> Vec3<S> {
         if total > self.max_distance || depth > MAX_DEPTH {
             return Vec3::ZERO;
         }
-        let Some((index, hit)) = closest_hit(self.objects, ray, left_from, self.z_limit) else {
+        let Some((index, hit)) =
+            closest_hit_among(self.objects, among, ray, left_from, self.z_limit)
+        else {
             return Vec3::ZERO;
         };
         let Some(object) = self.objects.get(index) else {
@@ -79,17 +118,21 @@ impl<'s, S: Scalar> Shader<'s, S> {
         };
         let total = total + hit.t;
         let mut c = self.local(object, index, &hit, ray.base) / total;
-        let specular = object.specular(&self.palette, &hit);
-        if specular != S::ZERO {
-            let reflected = Ray::new(hit.point, reflect(ray.dir, hit.normal));
-            c = c + self.trace(&reflected, total, Some(index), depth + 1) * specular;
+        if self.stages.reflection {
+            let specular = object.specular(&self.palette, &hit);
+            if specular != S::ZERO {
+                let reflected = Ray::new(hit.point, reflect(ray.dir, hit.normal));
+                c = c + self.trace(&reflected, total, Some(index), depth + 1) * specular;
+            }
         }
-        if let Some(material) = self.material_at(object, &hit) {
-            let tr = material.transparency;
-            if tr != S::ZERO {
-                let through = Ray::new(hit.point, ray.dir);
-                let behind = self.trace(&through, total, Some(index), depth + 1);
-                c = c * (S::ONE - tr) + material.filter.mul_each(behind);
+        if self.stages.transparency {
+            if let Some(material) = self.material_at(object, &hit) {
+                let tr = material.transparency;
+                if tr != S::ZERO {
+                    let through = Ray::new(hit.point, ray.dir);
+                    let behind = self.trace(&through, total, Some(index), depth + 1);
+                    c = c * (S::ONE - tr) + material.filter.mul_each(behind);
+                }
             }
         }
         c
@@ -103,7 +146,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
     #[inline(never)]
     fn local(&self, object: &Object<S>, index: usize, hit: &Hit<S>, eye: Vec3<S>) -> Vec3<S> {
         let mut c = object.ambient(&self.palette, hit);
-        if self.lights.is_empty() {
+        if !self.stages.illumination {
             return c;
         }
         let diffuse = object.diffuse(&self.palette, hit);
@@ -145,11 +188,22 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 return Vec3::ZERO;
             }
         }
-        let Some(filter) = self.shadow_filter(hit.point, l, distance, index) else {
-            return Vec3::ZERO;
-        };
-        let mut c = diffuse.mul_each(light.diffuse_emissivity).mul_each(filter) * cos / distance;
-        if shininess != S::ZERO {
+        let mut lit = diffuse.mul_each(light.diffuse_emissivity);
+        if self.stages.shadows && self.stages.filtered_shadows {
+            let Some(filter) = self.shadow_filter(hit.point, l, distance, index) else {
+                return Vec3::ZERO;
+            };
+            lit = lit.mul_each(filter);
+        } else if self.stages.shadows {
+            // Nothing is transparent: the first blocker decides, whichever it is.
+            let shadow = Ray::new(hit.point, l);
+            let (among, z) = (self.among, self.z_limit);
+            if any_hit_among(self.objects, among, &shadow, index, distance, z) {
+                return Vec3::ZERO;
+            }
+        }
+        let mut c = lit * cos / distance;
+        if self.stages.glints && shininess != S::ZERO {
             let halfway = (eye - hit.point).unit().and_then(|v| (v + l).unit());
             if let Some(h) = halfway {
                 c = c + light.emissivity * specular * h.dot(hit.normal).pow_positive(shininess);
@@ -175,8 +229,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
         // that would make the walk revisit objects forever.
         for _ in 0..=self.objects.len().saturating_mul(2) {
             let ray = Ray::new(base, l);
-            let Some((index, hit)) = closest_hit(self.objects, &ray, Some(skip), self.z_limit)
-            else {
+            let found = closest_hit_among(self.objects, self.among, &ray, Some(skip), self.z_limit);
+            let Some((index, hit)) = found else {
                 return Some(filter);
             };
             if !(hit.t < remaining) {

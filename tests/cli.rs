@@ -91,3 +91,32 @@ fn print_writes_text_that_checks() {
     std::fs::remove_file(&copy).unwrap();
     assert_eq!(text(&again.stdout), printed);
 }
+
+#[test]
+fn check_reports_the_plan_and_no_plan_renders_the_same_image() {
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/many_spheres.txt");
+    let scene = scene.to_str().unwrap();
+    let out = microray(&["check", scene]);
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout.contains("plan: illumination, shadows, any-hit shadows; 101 objects kept"),
+        "{stdout}"
+    );
+    let dir = std::env::temp_dir().join(format!("microray-cli-plan-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (planned, unplanned) = (dir.join("planned.ppm"), dir.join("unplanned.ppm"));
+    for (file, extra) in [(&planned, None), (&unplanned, Some("--no-plan"))] {
+        let mut args = vec!["render", scene, "-q", "--number", "f32", "-o"];
+        args.push(file.to_str().unwrap());
+        args.extend(extra);
+        let out = microray(&args);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+    }
+    let (a, b) = (
+        std::fs::read(&planned).unwrap(),
+        std::fs::read(&unplanned).unwrap(),
+    );
+    assert_eq!(a.len(), 15 + 320 * 240 * 3);
+    assert!(a == b, "--no-plan renders another image");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -112,10 +112,10 @@ struct Stats {
     id_mismatches: usize,
     appeared: BTreeSet<usize>,
     vanished: BTreeSet<usize>,
-    /// Pixels off by more than 1 in a channel where the f64 image is smooth: the difference
-    /// exceeds the channel's contrast in the f64 image's 5x5 neighbourhood (+1). Differences
-    /// on silhouettes, shadow, texel and highlight edges (also seen in mirrors) stay within the
-    /// contrast that is there.
+    /// Pixels that see the same object but are off by more than 1 in a channel where the f64
+    /// image is smooth: the difference exceeds the channel's contrast in the f64 image's 5x5
+    /// neighbourhood (+1). Differences on shadow, texel and highlight edges (also seen in
+    /// mirrors) stay within the contrast that is there; silhouettes count as id mismatches.
     off_edge: usize,
     /// Pixels left out of the statistics above: exact ties (see [`Image::ties`]).
     ties: usize,
@@ -161,8 +161,13 @@ fn compare(reference: &Image, other: &Image) -> Stats {
     let mut off_edge = 0;
     let mut id_mismatches = 0;
     for i in (0..reference.rgb.len()).filter(|&i| !reference.ties[i]) {
-        id_mismatches += usize::from(reference.ids[i] != other.ids[i]);
-        if difference(reference.rgb[i], other.rgb[i]) > 1
+        let other_object = reference.ids[i] != other.ids[i];
+        id_mismatches += usize::from(other_object);
+        // A pixel that sees another object is on a silhouette: the id statistics judge it
+        // (no object appears or vanishes, few such pixels), not the neighbourhood's contrast
+        // (a grazing hit on a sphere's rim is darker than anything around it).
+        if !other_object
+            && difference(reference.rgb[i], other.rgb[i]) > 1
             && !within_local_contrast(reference, i, other.rgb[i])
         {
             off_edge += 1;
@@ -220,26 +225,29 @@ fn every_number_type_against_the_f64_std_tracer() {
                 s.ties
             )
             .unwrap();
-            let ok = match number {
-                // Where a channel is off by more than 2 the difference is an edge that sits
-                // on a pixel centre (texel edges in texplane1/2, the x = 0 edge and tile edges
-                // seen in the mirrors of spec1/3 and shiny3): allowed, but only on edges.
-                "f32" => {
-                    let edge_scenes = ["texplane1", "texplane2", "spec1", "spec3", "shiny3"];
-                    s.identical >= 99.9
-                        && (s.max_difference <= 2
-                            || (edge_scenes.contains(&name.as_str()) && s.off_edge == 0))
-                }
-                // At most 1 pixel in 100,000 off in a smooth region: spec3's twelve mirror
-                // bounces leave one pixel 4 levels off (measured).
-                _ => {
-                    s.within_one >= 99.0
-                        && s.psnr >= 40.0
-                        && s.appeared.is_empty()
-                        && s.vanished.is_empty()
-                        && s.off_edge as f64 <= image.rgb.len() as f64 / 100_000.0
-                }
-            };
+            // Silhouettes may move by rounding, on at most 1 pixel in 2,000.
+            let few_silhouette_moves = s.id_mismatches as f64 <= image.rgb.len() as f64 / 2000.0;
+            let ok = few_silhouette_moves
+                && match number {
+                    // Where a channel is off by more than 2 the difference is an edge that sits
+                    // on a pixel centre (texel edges in texplane1/2, the x = 0 edge and tile edges
+                    // seen in the mirrors of spec1/3 and shiny3): allowed, but only on edges.
+                    "f32" => {
+                        let edge_scenes = ["texplane1", "texplane2", "spec1", "spec3", "shiny3"];
+                        s.identical >= 99.9
+                            && (s.max_difference <= 2
+                                || (edge_scenes.contains(&name.as_str()) && s.off_edge == 0))
+                    }
+                    // At most 1 pixel in 100,000 off in a smooth region: spec3's twelve mirror
+                    // bounces leave one pixel 4 levels off (measured).
+                    _ => {
+                        s.within_one >= 99.0
+                            && s.psnr >= 40.0
+                            && s.appeared.is_empty()
+                            && s.vanished.is_empty()
+                            && s.off_edge as f64 <= image.rgb.len() as f64 / 100_000.0
+                    }
+                };
             if !ok {
                 failures.push(format!("{name} {number}: {s:?}"));
             }

@@ -36,11 +36,12 @@ mod scenes {
     }
     include!(concat!(env!("OUT_DIR"), "/scenes.rs"));
 }
-use scenes::{HEIGHT, SCENES, SKIPPED, WIDTH};
+use scenes::{COMPARE_PLAN, HEIGHT, OBJECTS, SCENES, SKIPPED, WIDTH};
 
-/// Capacities that hold every embedded scene; files up to 800 pixels wide load (they are
-/// rendered at `WIDTH` x `HEIGHT`).
-type FirmwareScene = Scene<'static, Number, 6, 8, 4, 1, 800>;
+/// Capacities that hold every embedded scene (build.rs leaves out scenes with more objects
+/// than the machine has room for); files up to 800 pixels wide load (they are rendered at
+/// `WIDTH` x `HEIGHT`).
+type FirmwareScene = Scene<'static, Number, OBJECTS, 8, 4, 1, 800>;
 
 // The markers: the QEMU plugin reads its counters when execution reaches their addresses.
 // Inline assembly is a side effect the compiler keeps, and a different number of NOPs keeps
@@ -121,11 +122,33 @@ fn open(name: &str) -> usize {
     unsafe { syscall!(OPEN, path.as_ptr(), 5, len + 4) }
 }
 
-#[inline(never)]
+/// Renders a scene into `<name>.rgb`, and with `MICRORAY_FW_PLAN=compare` a second time
+/// without the render plan into `<name>+noplan.rgb`.
 fn render_to_file(name: &str, scene: &mut FirmwareScene) -> Result<(), &'static str> {
     scene
         .set_resolution(WIDTH, HEIGHT)
         .map_err(|_| "resolution")?;
+    render_frame(name, "", scene, true)?;
+    if COMPARE_PLAN {
+        report_frame(name, "", Ok(()));
+        stack::paint();
+        render_frame(name, "+noplan", scene, false)?;
+    }
+    Ok(())
+}
+
+#[inline(never)]
+fn render_frame(
+    name: &str,
+    suffix: &str,
+    scene: &FirmwareScene,
+    planned: bool,
+) -> Result<(), &'static str> {
+    let mut file = [0u8; 48];
+    let len = name.len().min(40);
+    file[..len].copy_from_slice(&name.as_bytes()[..len]);
+    file[len..len + suffix.len()].copy_from_slice(suffix.as_bytes());
+    let name = core::str::from_utf8(&file[..len + suffix.len()]).map_err(|_| "name")?;
     let handle = open(name);
     if handle == usize::MAX {
         return Err("cannot open the output file");
@@ -141,18 +164,25 @@ fn render_to_file(name: &str, scene: &mut FirmwareScene) -> Result<(), &'static 
     );
     microray_count_start();
     let result =
-        Renderer::new(scene).render_area(&mut target, all, &mut row, |_| ControlFlow::Continue(()));
+        Renderer::new(scene)
+            .with_plan(planned)
+            .render_area(&mut target, all, &mut row, |_| ControlFlow::Continue(()));
     microray_count_stop();
     microray_count_frame();
     unsafe { syscall!(CLOSE, handle) };
     result.map(|_| ()).map_err(|_| "render failed")
 }
 
+/// Reports the last frame of a scene: `+noplan` is the frame without the plan.
 fn report(name: &str, result: Result<(), &str>) {
+    report_frame(name, if COMPARE_PLAN { "+noplan" } else { "" }, result);
+}
+
+fn report_frame(name: &str, suffix: &str, result: Result<(), &str>) {
     let stack = stack::peak();
     match result {
-        Ok(()) => hprintln!("microray scene {} stack {}", name, stack),
-        Err(why) => hprintln!("microray scene {} error {}", name, why),
+        Ok(()) => hprintln!("microray scene {}{} stack {}", name, suffix, stack),
+        Err(why) => hprintln!("microray scene {}{} error {}", name, suffix, why),
     }
 }
 
@@ -200,11 +230,8 @@ fn main() -> ! {
     stack::paint();
     let result = run_static(&mut scene);
     report(static_scene::NAME, result);
-    for name in SKIPPED {
-        hprintln!(
-            "microray scene {} skipped (its textures do not fit this machine's flash)",
-            name
-        );
+    for (name, why) in SKIPPED {
+        hprintln!("microray scene {} skipped ({})", name, why);
     }
     debug::exit(debug::EXIT_SUCCESS);
     loop {

@@ -3,7 +3,7 @@
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use microray::Scalar;
-use microray::host::{Framebuffer, HostScene, texture_files};
+use microray::host::{Framebuffer, HostRenderer, HostScene, texture_files};
 use microray::parse::parse_scene;
 use microray::print::print_scene;
 use microray::render::{Renderer, Shading};
@@ -52,6 +52,10 @@ enum Command {
         /// No progress bar and no summary line.
         #[arg(short, long)]
         quiet: bool,
+        /// Render without the render plan: every shading stage runs and every ray is tested
+        /// against every object (the same image, for comparison).
+        #[arg(long)]
+        no_plan: bool,
     },
 }
 
@@ -85,15 +89,20 @@ fn main() -> ExitCode {
             number,
             shade,
             quiet,
+            no_plan,
         } => {
-            let shading = match shade {
-                ShadeMode::Color => Shading::Color,
-                ShadeMode::Ids => Shading::Ids,
+            let options = Options {
+                shading: match shade {
+                    ShadeMode::Color => Shading::Color,
+                    ShadeMode::Ids => Shading::Ids,
+                },
+                quiet: *quiet,
+                planned: !no_plan,
             };
             match number {
-                Number::F64 => render::<f64>(scene, output, shading, *quiet),
-                Number::F32 => render::<f32>(scene, output, shading, *quiet),
-                Number::I16f16 => render::<I16F16>(scene, output, shading, *quiet),
+                Number::F64 => render::<f64>(scene, output, &options),
+                Number::F32 => render::<f32>(scene, output, &options),
+                Number::I16f16 => render::<I16F16>(scene, output, &options),
             }
         }
     };
@@ -121,7 +130,54 @@ fn check(path: &Path) -> Result<(), String> {
         spots,
         count(s.objects().len(), "object"),
     );
+    println!("{}", plan_summary(&Renderer::new(&s)));
     Ok(())
+}
+
+/// One line on what the render plan skips.
+fn plan_summary(renderer: &HostRenderer<'_, f64>) -> String {
+    let plan = renderer.plan();
+    let stages = plan.stages();
+    let mut on = Vec::new();
+    for (name, runs) in [
+        ("illumination", stages.illumination),
+        ("shadows", stages.shadows),
+        ("reflection", stages.reflection),
+        ("transparency", stages.transparency),
+        ("glints", stages.glints),
+    ] {
+        if runs {
+            on.push(name);
+        }
+    }
+    if stages.shadows {
+        on.push(if stages.filtered_shadows {
+            "filtered shadow walk"
+        } else {
+            "any-hit shadows"
+        });
+    }
+    let height = renderer.size().height;
+    let rows: u64 = plan
+        .spans()
+        .iter()
+        .map(|s| u64::from(s.rows(u16::try_from(height).unwrap_or(u16::MAX))))
+        .sum();
+    let all = u64::from(height) * plan.kept().len() as u64;
+    format!(
+        "plan: {}; {} kept, primary rays test {:.1}% of object-rows",
+        if on.is_empty() {
+            "ambient only".to_string()
+        } else {
+            on.join(", ")
+        },
+        count(plan.kept().len(), "object"),
+        if all == 0 {
+            0.0
+        } else {
+            100.0 * rows as f64 / all as f64
+        }
+    )
 }
 
 fn count(n: usize, noun: &str) -> String {
@@ -150,12 +206,14 @@ enum Format {
     Png,
 }
 
-fn render<S: Scalar>(
-    path: &Path,
-    output: &Path,
+struct Options {
     shading: Shading,
     quiet: bool,
-) -> Result<(), String> {
+    planned: bool,
+}
+
+fn render<S: Scalar>(path: &Path, output: &Path, options: &Options) -> Result<(), String> {
+    let quiet = options.quiet;
     let extension = output
         .extension()
         .and_then(|e| e.to_str())
@@ -171,7 +229,9 @@ fn render<S: Scalar>(
         }
     };
     let scene = load::<S>(path)?;
-    let renderer = Renderer::new(&scene).with_shading(shading);
+    let renderer = Renderer::new(&scene)
+        .with_shading(options.shading)
+        .with_plan(options.planned);
     let size = renderer.size();
     let mut image = Framebuffer::new(size);
     let mut row = vec![Default::default(); size.width as usize];

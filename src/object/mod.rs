@@ -259,18 +259,78 @@ pub fn closest_hit<S: Scalar>(
     skip: Option<usize>,
     z_limit: S,
 ) -> Option<(usize, Hit<S>)> {
+    closest_hit_among(objects, Among::All, ray, skip, z_limit)
+}
+
+/// Which objects a ray is tested against.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Among<'a> {
+    /// Every object of the scene.
+    All,
+    /// Only these, by index, in increasing order (so that ties still go to the object
+    /// defined first): a render plan's list.
+    Only(&'a [u16]),
+}
+
+/// [`closest_hit`] over the objects `among`.
+#[inline]
+pub fn closest_hit_among<S: Scalar>(
+    objects: &[Object<S>],
+    among: Among<'_>,
+    ray: &Ray<S>,
+    skip: Option<usize>,
+    z_limit: S,
+) -> Option<(usize, Hit<S>)> {
     let mut best: Option<(usize, Hit<S>)> = None;
-    for (index, object) in objects.iter().enumerate() {
+    let mut test = |index: usize, object: &Object<S>| {
         if Some(index) == skip {
-            continue;
+            return;
         }
         if let Some(hit) = object.hits(ray) {
             if hit.point.z <= z_limit && best.as_ref().is_none_or(|(_, b)| hit.t < b.t) {
                 best = Some((index, hit));
             }
         }
+    };
+    match among {
+        Among::All => objects.iter().enumerate().for_each(|(i, o)| test(i, o)),
+        Among::Only(list) => {
+            for &index in list {
+                if let Some(object) = objects.get(usize::from(index)) {
+                    test(usize::from(index), object);
+                }
+            }
+        }
     }
     best
+}
+
+/// Whether any object `among` (but `skip`) is hit with `t < limit` and within the z rule:
+/// the shadow test when nothing is transparent. It stops at the first such hit, where the
+/// closest-hit search would test every object.
+#[inline]
+pub fn any_hit_among<S: Scalar>(
+    objects: &[Object<S>],
+    among: Among<'_>,
+    ray: &Ray<S>,
+    skip: usize,
+    limit: S,
+    z_limit: S,
+) -> bool {
+    let blocks = |index: usize, object: &Object<S>| {
+        index != skip
+            && object
+                .hits(ray)
+                .is_some_and(|hit| hit.t < limit && hit.point.z <= z_limit)
+    };
+    match among {
+        Among::All => objects.iter().enumerate().any(|(i, o)| blocks(i, o)),
+        Among::Only(list) => list.iter().any(|&index| {
+            objects
+                .get(usize::from(index))
+                .is_some_and(|object| blocks(usize::from(index), object))
+        }),
+    }
 }
 
 /// Hit points with `z` above this are in front of the image plane (in scene units, before

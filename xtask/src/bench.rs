@@ -16,6 +16,10 @@ use std::process::Command;
 
 const NUMBERS: [&str; 3] = ["f64", "f32", "i16f16"];
 
+/// Scenes rendered in QEMU with and without the render plan: the hundred spheres where row
+/// culling pays, and scenes of a few objects where the stages matter more.
+const PLAN_SCENES: &str = "many_spheres,spec0,glass,minimal";
+
 /// spec0 at 320x240, instructions per pixel of a straightforward generic tracer: the
 /// baselines the number-types issue measured.
 const BASELINES: [(&str, &str, f64, &str); 4] = [
@@ -58,7 +62,7 @@ pub fn run(args: &[String]) -> Result<(), String> {
         .unwrap_or_default();
     let mut bench_args = vec!["bench", "--bench", "render", "--"];
     if quick {
-        bench_args.extend(["--quick", "320x240"]);
+        bench_args.extend(["--quick", "320x240|noplan"]);
     }
     qemu::cargo(
         &bench_args,
@@ -106,6 +110,17 @@ pub fn run(args: &[String]) -> Result<(), String> {
         },
     )?;
     baseline.check()?;
+    let plan = qemu::measure(
+        &root,
+        160,
+        120,
+        &Options {
+            only: PLAN_SCENES.into(),
+            compare_plan: true,
+            ..Options::default()
+        },
+    )?;
+    plan.check()?;
     let all = if quick {
         None
     } else {
@@ -120,6 +135,7 @@ pub fn run(args: &[String]) -> Result<(), String> {
         &times,
         &errors,
         &baseline.rows,
+        &plan.rows,
         all.as_ref().map(|m| m.rows.as_slice()),
     );
     println!("{report}");
@@ -231,6 +247,7 @@ fn report(
     times: &BTreeMap<(String, String, String), f64>,
     errors: &BTreeMap<(String, &str), Error>,
     baseline: &[Row],
+    plan: &[Row],
     all: Option<&[Row]>,
 ) -> String {
     let mut out = String::new();
@@ -279,6 +296,7 @@ fn report(
             );
         }
     }
+    plan_report(&mut out, scenes, times, plan);
     let _ = writeln!(
         out,
         "\n## Every scene and number type\n\n\
@@ -335,6 +353,70 @@ fn report(
         }
     }
     out
+}
+
+/// The render plan's gain: host medians with and without it at 320x240 (one run), and exact
+/// instruction counts in QEMU at 160x120.
+fn plan_report(
+    out: &mut String,
+    scenes: &BTreeMap<String, PathBuf>,
+    times: &BTreeMap<(String, String, String), f64>,
+    rows: &[Row],
+) {
+    let _ = writeln!(
+        out,
+        "\n## The render plan\n\n\
+         What skipping what a scene does not need gains (`microray render --no-plan` renders \
+         without it; the images are identical, which `tests/plan.rs` checks for every scene and \
+         number type, and QEMU checks for every frame below). Microcontrollers: instructions per \
+         pixel at 160x120 with the plan and without, and the ratio; many_spheres does not fit \
+         the micro:bit's RAM.\n"
+    );
+    let _ = writeln!(
+        out,
+        "| scene | machine | number | instr/px with plan | without | speed-up |\n|---|---|---|---|---|---|"
+    );
+    for r in rows.iter().filter(|r| !r.scene.ends_with("+noplan")) {
+        let Some(without) = rows.iter().find(|o| {
+            o.machine == r.machine
+                && o.number == r.number
+                && o.scene == format!("{}+noplan", r.scene)
+        }) else {
+            continue;
+        };
+        let pixels = 160.0 * 120.0;
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {:.0} | {:.0} | {:.2} |",
+            r.scene,
+            r.machine,
+            r.number_name(),
+            r.insns as f64 / pixels,
+            without.insns as f64 / pixels,
+            without.insns as f64 / r.insns.max(1) as f64
+        );
+    }
+    let _ = writeln!(
+        out,
+        "\nHost: milliseconds a frame at 320x240 with the plan and without, and the speed-up \
+         (criterion medians of one run).\n\n\
+         | scene | f64 | f64 without | f64 speed-up | f32 | f32 without | f32 speed-up | i16f16 | i16f16 without | i16f16 speed-up |\n\
+         |---|---|---|---|---|---|---|---|---|---|"
+    );
+    for name in scenes.keys() {
+        let mut line = format!("| {name} |");
+        for number in NUMBERS {
+            let with = ms(times, name, number, "320x240");
+            let without = ms(times, name, number, "noplan");
+            let cell = |v: Option<f64>| v.map_or("—".to_string(), |v| format!("{v:.2}"));
+            let ratio = match (with, without) {
+                (Some(a), Some(b)) if a > 0.0 => format!("{:.2}", b / a),
+                _ => "—".into(),
+            };
+            let _ = write!(line, " {} | {} | {ratio} |", cell(with), cell(without));
+        }
+        let _ = writeln!(out, "{line}");
+    }
 }
 
 /// Host time at 320x240 against the share of pixels that differ from f64, per scene.

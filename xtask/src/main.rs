@@ -1,10 +1,13 @@
 //! The project's tasks.
 //!
-//! - `cargo xtask qemu [--size WxH]`: builds the firmware for the emulated Cortex-M4F
-//!   (mps2-an386) and Cortex-M0 (microbit) in f32 and I16F16, and the instruction-counting
-//!   QEMU plugin; runs every scene on both machines; compares each frame byte for byte with
-//!   the host's render of the same scene, number type and size; prints the table (and writes
-//!   it to `docs/firmware.md`). Exits non-zero on any difference or failure.
+//! - `cargo xtask qemu [--size WxH] [--only SCENE,...] [--build PREFIX] [--profile]
+//!   [--compare-plan]`: builds the firmware for the emulated Cortex-M4F (mps2-an386) and
+//!   Cortex-M0 (microbit) in f32 and I16F16, and the instruction-counting QEMU plugin; runs
+//!   every scene on both machines; compares each frame byte for byte with the host's render
+//!   of the same scene, number type and size; prints the table (and, for a complete run,
+//!   writes it to `docs/firmware.md`). `--compare-plan` renders each scene a second time
+//!   without the render plan (`SCENE+noplan`). Exits non-zero on any difference or failure.
+//! - `cargo xtask bench [--quick]`: run time against error (`docs/benchmarks.md`).
 
 mod bench;
 mod qemu;
@@ -16,7 +19,11 @@ fn main() -> ExitCode {
     let result = match args.first().map(String::as_str) {
         Some("qemu") => qemu::run(&args[1..]),
         Some("bench") => bench::run(&args[1..]),
-        _ => Err("usage: cargo xtask qemu [--size WIDTHxHEIGHT]".to_string()),
+        _ => Err(
+            "usage: cargo xtask qemu [--size WIDTHxHEIGHT] [--only SCENE,...] \
+                  [--build PREFIX] [--profile] [--compare-plan] | cargo xtask bench [--quick]"
+                .to_string(),
+        ),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -22,8 +22,10 @@ pub(crate) struct Options {
     pub(crate) only: String,
     /// Count instructions by function as well.
     pub(crate) profile: bool,
-    /// Only this build (`mps2-an386-f32`, `microbit-fixed`, ...).
+    /// Only the builds whose name starts with this (`mps2-an386-f32`, `microbit`, ...).
     pub(crate) build: Option<String>,
+    /// Render each scene twice, with the render plan and without (`SCENE+noplan`).
+    pub(crate) compare_plan: bool,
 }
 
 /// One firmware build: a machine and a number type.
@@ -78,6 +80,17 @@ pub(crate) struct Row {
     pub(crate) stack: u64,
 }
 
+impl Row {
+    /// The number type as the host tracer names it (`i16f16` for the `fixed` builds).
+    pub(crate) fn number_name(&self) -> &'static str {
+        if self.number == "fixed" {
+            "i16f16"
+        } else {
+            self.number
+        }
+    }
+}
+
 /// Flash and static RAM of a build, from its ELF sections.
 pub(crate) struct Size {
     pub(crate) flash: u64,
@@ -93,6 +106,7 @@ pub fn run(args: &[String]) -> Result<(), String> {
             "--size" => size = rest.next().ok_or("--size takes WIDTHxHEIGHT")?.clone(),
             "--only" => options.only = rest.next().ok_or("--only takes SCENE[,SCENE...]")?.clone(),
             "--profile" => options.profile = true,
+            "--compare-plan" => options.compare_plan = true,
             "--build" => {
                 options.build = Some(rest.next().ok_or("--build takes MACHINE-NUMBER")?.clone())
             }
@@ -106,7 +120,10 @@ pub fn run(args: &[String]) -> Result<(), String> {
     let root = root()?;
     let measurement = measure(&root, width, height, &options)?;
     let mut table = table(&measurement.rows, &measurement.sizes, width, height);
-    let complete = options.only.is_empty() && options.build.is_none() && size == "160x120";
+    let complete = options.only.is_empty()
+        && options.build.is_none()
+        && !options.compare_plan
+        && size == "160x120";
     if complete {
         table.push_str(&flash_by_part(
             &root,
@@ -179,10 +196,22 @@ pub(crate) fn measure(
     let mut sizes = BTreeMap::new();
     for build in &BUILDS {
         let name = format!("{}-{}", build.machine, build.number);
-        if options.build.as_ref().is_some_and(|only| *only != name) {
+        if options
+            .build
+            .as_ref()
+            .is_some_and(|only| !name.starts_with(only.as_str()))
+        {
             continue;
         }
-        let elf = build_firmware(root, build, conformance.as_deref(), &size, &options.only)?;
+        let plan = if options.compare_plan { "compare" } else { "" };
+        let elf = build_firmware(
+            root,
+            build,
+            conformance.as_deref(),
+            &size,
+            &options.only,
+            plan,
+        )?;
         let (markers, size) = inspect(&elf)?;
         sizes.insert((build.machine, build.number), size);
         let out = root.join("target/qemu").join(&name);
@@ -276,13 +305,18 @@ fn build_firmware(
     conformance: Option<&Path>,
     size: &str,
     only: &str,
+    plan: &str,
 ) -> Result<PathBuf, String> {
     let features = format!("{},{}", build.feature, build.number);
     let dir = root.join("firmware");
     let conformance = conformance
         .map(|p| p.display().to_string())
         .unwrap_or_default();
-    let mut envs = vec![("MICRORAY_FW_SIZE", size), ("MICRORAY_FW_ONLY", only)];
+    let mut envs = vec![
+        ("MICRORAY_FW_SIZE", size),
+        ("MICRORAY_FW_ONLY", only),
+        ("MICRORAY_FW_PLAN", plan),
+    ];
     if !conformance.is_empty() {
         envs.push(("MICRORAY_CONFORMANCE", conformance.as_str()));
     }
@@ -460,10 +494,8 @@ fn compare(
                 (name.to_string(), stack.parse().unwrap_or(0))
             }
             ["microray", "scene", name, "skipped", ..] => {
-                eprintln!(
-                    "{} {}: {name} skipped (its textures do not fit the flash)",
-                    build.machine, build.number
-                );
+                let why = line.split_once("skipped").map_or("", |(_, why)| why.trim());
+                eprintln!("{} {}: {name} skipped {why}", build.machine, build.number);
                 continue;
             }
             ["microray", "scene", name, ..] => {
@@ -479,12 +511,14 @@ fn compare(
             .ok_or(format!("no instruction count for {name}"))?;
         let dump =
             std::fs::read(out.join(format!("{name}.rgb"))).map_err(|e| format!("{name}: {e}"))?;
-        let path = if name == static_scene::NAME {
+        // The frame without the plan must equal the host's render with it.
+        let scene = name.strip_suffix("+noplan").unwrap_or(&name);
+        let path = if scene == static_scene::NAME {
             None
         } else {
-            scenes.get(&name).map(PathBuf::as_path)
+            scenes.get(scene).map(PathBuf::as_path)
         };
-        if name != static_scene::NAME && path.is_none() {
+        if scene != static_scene::NAME && path.is_none() {
             return Err(format!("{name}: no such scene on the host"));
         }
         let host = match build.number {
@@ -525,12 +559,19 @@ fn flash_by_part(root: &Path, conformance: Option<&Path>, size: &str) -> Result<
         (b.machine, b.number) == ("mps2-an386", "f32")
             || (b.machine, b.number) == ("microbit", "fixed")
     }) {
-        let source_only = inspect(&build_firmware(root, build, conformance, size, "none")?)?
+        let source_only = inspect(&build_firmware(root, build, conformance, size, "none", "")?)?
             .1
             .flash;
-        let with_parser = inspect(&build_firmware(root, build, conformance, size, "spec0")?)?
-            .1
-            .flash;
+        let with_parser = inspect(&build_firmware(
+            root,
+            build,
+            conformance,
+            size,
+            "spec0",
+            "",
+        )?)?
+        .1
+        .flash;
         let _ = writeln!(
             out,
             "| {} | {} | {source_only} | {with_parser} | {} |",
@@ -579,11 +620,7 @@ fn table(rows: &[Row], sizes: &BTreeMap<(&str, &str), Size>, width: u16, height:
             "| {} | {} | {} | {} | {} | {:.0} | {:.2} | {:.2} | {} | {} | {} |",
             r.scene,
             r.machine,
-            if r.number == "fixed" {
-                "i16f16"
-            } else {
-                r.number
-            },
+            r.number_name(),
             identical,
             r.insns,
             r.insns as f64 / pixels,

@@ -1,0 +1,521 @@
+//! The render plan: what a scene needs, worked out once before rendering.
+//!
+//! - [`Stages`]: which parts of the shading run at all. A scene without lights needs no
+//!   illumination, one without mirror materials no reflection rays, one without transparent
+//!   materials no transmission rays and no filter walk (its shadow rays stop at the first
+//!   blocker), one without glints no Blinn-Phong term, one with a single object no shadow rays.
+//! - Objects that no ray can ever count (wholly in front of the image plane, where the z rule
+//!   discards every hit) are dropped for every ray.
+//! - [`RowSpan`]: the image rows whose primary rays can reach each object. All rays of a row
+//!   lie in one plane through the eye (it contains the eye and the row's line on the image
+//!   plane, which runs along x), so seen along the x axis a row is a half-line from the eye,
+//!   and an object can be hit only by the rows whose half-line meets its outline: a sphere's
+//!   disc, a rectangle's corners' hull, an infinite plane's half of the view (its horizon).
+//!
+//! Every bound is conservative: it is computed in `f64` from the number type's own values,
+//! widened by an angle of 2e-3 radians and 64 steps of the type's resolution, then by one
+//! row on each side, so the rounding of the rays in `f32` or fixed point cannot reach an
+//! object its row's list left out. A planned render is pixel for pixel the render without a
+//! plan; the tests check that for every scene and number type.
+
+use crate::camera::Camera;
+use crate::light::Light;
+use crate::material::Material;
+use crate::object::{Object, Shape};
+use crate::scalar::Scalar;
+use crate::vec3::Vec3;
+use core::f64::consts::{FRAC_PI_2, PI};
+use heapless::Vec;
+
+/// Angular widening of every bound, in radians: far above the direction error of any number
+/// type microray has (about 1e-5 for Q16.16).
+const ANGLE_MARGIN: f64 = 2e-3;
+
+/// Widening in steps of the type's resolution (fixed point rounds every coordinate).
+const RESOLUTION_STEPS: f64 = 64.0;
+
+/// Which stages of the shading run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Stages {
+    /// Lights are summed (else only ambient light).
+    pub illumination: bool,
+    /// Shadow rays are cast (else every light reaches every lit surface).
+    pub shadows: bool,
+    /// Shadow rays walk through transparent objects, multiplying filters (else they stop at
+    /// the first blocker: an any-hit test).
+    pub filtered_shadows: bool,
+    /// Mirror reflection rays.
+    pub reflection: bool,
+    /// Transmission rays through transparent objects.
+    pub transparency: bool,
+    /// Blinn-Phong glints.
+    pub glints: bool,
+}
+
+impl Stages {
+    /// Everything on: the render without a plan.
+    pub const ALL: Self = Self {
+        illumination: true,
+        shadows: true,
+        filtered_shadows: true,
+        reflection: true,
+        transparency: true,
+        glints: true,
+    };
+}
+
+/// The image rows (`y = 0` the bottom, as the camera counts) whose primary rays can hit an
+/// object, both ends included; empty when `first > last`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RowSpan {
+    /// The lowest row.
+    pub first: u16,
+    /// The highest row.
+    pub last: u16,
+}
+
+impl RowSpan {
+    /// Every row.
+    pub const ALL: Self = Self {
+        first: 0,
+        last: u16::MAX,
+    };
+    /// No row.
+    pub const NONE: Self = Self { first: 1, last: 0 };
+
+    /// Whether row `y` is in the span.
+    #[inline]
+    pub fn contains(&self, y: u16) -> bool {
+        self.first <= y && y <= self.last
+    }
+
+    /// How many of the camera's rows the span covers.
+    pub fn rows(&self, height: u16) -> u16 {
+        let last = self.last.min(height.saturating_sub(1));
+        if self.first > last {
+            0
+        } else {
+            last - self.first + 1
+        }
+    }
+}
+
+/// A scene's render plan: the stages that run, the objects any ray can count (by index, in
+/// definition order, which keeps the closest-hit tie rule) and each one's rows.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plan<const OBJECTS: usize> {
+    stages: Stages,
+    kept: Vec<u16, OBJECTS>,
+    spans: Vec<RowSpan, OBJECTS>,
+}
+
+impl<const OBJECTS: usize> Plan<OBJECTS> {
+    /// No plan: every stage, every object, every row.
+    pub fn everything<S: Scalar>(objects: &[Object<S>]) -> Self {
+        let mut plan = Self {
+            stages: Stages::ALL,
+            kept: Vec::new(),
+            spans: Vec::new(),
+        };
+        for index in 0..objects.len() {
+            plan.keep(index, RowSpan::ALL);
+        }
+        plan
+    }
+
+    /// The plan for a scene's parts.
+    pub fn new<S: Scalar>(
+        camera: &Camera<S>,
+        materials: &[Material<S>],
+        lights: &[Light<S>],
+        objects: &[Object<S>],
+        z_limit: S,
+    ) -> Self {
+        let mut plan = Self {
+            stages: Stages::ALL,
+            kept: Vec::new(),
+            spans: Vec::new(),
+        };
+        let view = View::of(camera);
+        for (index, object) in objects.iter().enumerate() {
+            if !wholly_in_front(object, z_limit.to_f64(), S::MIN_NORMAL) {
+                plan.keep(index, view.rows_of(object, S::MIN_NORMAL));
+            }
+        }
+        let used = |test: &dyn Fn(&Material<S>) -> bool| {
+            plan.kept.iter().any(|&index| {
+                objects.get(usize::from(index)).is_some_and(|object| {
+                    materials_of(object)
+                        .into_iter()
+                        .flatten()
+                        .filter_map(|id| materials.get(usize::from(id)))
+                        .any(test)
+                })
+            })
+        };
+        let transparency = used(&|m| m.transparency != S::ZERO);
+        plan.stages = Stages {
+            illumination: !lights.is_empty(),
+            // An object never shadows itself (shadow rays skip the object they leave).
+            shadows: !lights.is_empty() && plan.kept.len() >= 2,
+            filtered_shadows: transparency,
+            reflection: used(&|m| m.specular != S::ZERO),
+            transparency,
+            glints: !lights.is_empty() && used(&|m| m.shininess != S::ZERO),
+        };
+        plan
+    }
+
+    fn keep(&mut self, index: usize, span: RowSpan) {
+        // Indices that do not fit u16 cannot be planned: with more objects than that the
+        // plan keeps only the first 65536, so scenes add them only below that (see
+        // `Scene::add_object`).
+        if let Ok(index) = u16::try_from(index) {
+            if self.kept.push(index).is_ok() && self.spans.push(span).is_err() {
+                self.kept.pop();
+            }
+        }
+    }
+
+    /// The stages that run.
+    pub fn stages(&self) -> Stages {
+        self.stages
+    }
+
+    /// The objects any ray can count, by index.
+    pub fn kept(&self) -> &[u16] {
+        &self.kept
+    }
+
+    /// The row span of each kept object, in the order of [`kept`](Self::kept).
+    pub fn spans(&self) -> &[RowSpan] {
+        &self.spans
+    }
+
+    /// The objects whose span contains row `y` (`y = 0` the bottom), in definition order.
+    pub fn objects_in_row(&self, y: u16) -> Vec<u16, OBJECTS> {
+        let mut row = Vec::new();
+        for (&index, span) in self.kept.iter().zip(&self.spans) {
+            if span.contains(y) {
+                // Cannot fail: at most as many as `kept` holds.
+                let _ = row.push(index);
+            }
+        }
+        row
+    }
+}
+
+/// The materials an object can show: its own, and a tiled plane's second one.
+fn materials_of<S: Scalar>(object: &Object<S>) -> [Option<u16>; 2] {
+    let alternate = match object.shape() {
+        Shape::TiledPlane(tiles) => Some(tiles.altmaterial),
+        _ => None,
+    };
+    [Some(object.material()), alternate]
+}
+
+/// Whether every point of the object has `z` clearly above the z limit, so the z rule
+/// discards every hit of every ray on it.
+fn wholly_in_front<S: Scalar>(object: &Object<S>, z_limit: f64, resolution: f64) -> bool {
+    let clear_of = |z: f64, size: f64| {
+        z > z_limit + ANGLE_MARGIN * (libm::fabs(z) + size) + RESOLUTION_STEPS * resolution
+    };
+    match object.shape() {
+        Shape::Sphere(s) => {
+            let r = s.radius.to_f64();
+            clear_of(s.center.z.to_f64() - r, r)
+        }
+        Shape::FPlane(rect) => corners(rect).iter().all(|c| clear_of(c.z, 0.0)),
+        Shape::TexPlane(t) => corners(&t.rect).iter().all(|c| clear_of(c.z, 0.0)),
+        Shape::Plane(p) => plane_in_front(p, clear_of),
+        Shape::TiledPlane(t) => plane_in_front(&t.rect.plane, clear_of),
+    }
+}
+
+/// A plane facing along z (its normal has no x or y part) at a z clearly above the limit.
+fn plane_in_front<S: Scalar>(
+    plane: &crate::object::Plane<S>,
+    clear_of: impl Fn(f64, f64) -> bool,
+) -> bool {
+    let n = plane.unit_normal;
+    n.x == S::ZERO && n.y == S::ZERO && clear_of(plane.point.z.to_f64(), 0.0)
+}
+
+/// A rectangle's corners, in `f64`.
+fn corners<S: Scalar>(rect: &crate::object::Rect<S>) -> [Vec3<f64>; 4] {
+    let p = rect.plane.point.to_f64();
+    let across = rect.u.to_f64() * rect.dimensions[0].to_f64();
+    let up = rect.v.to_f64() * rect.dimensions[1].to_f64();
+    [p, p + across, p + across + up, p + up]
+}
+
+/// The camera seen along the x axis: the eye `(y, z)` and how a row maps to the image plane.
+struct View {
+    eye: [f64; 2],
+    /// World units of the image plane per row.
+    row_height: f64,
+    height: u16,
+}
+
+/// A set of screen heights `lo <= sy <= hi` on the image plane (either end may be infinite).
+#[derive(Clone, Copy)]
+struct Heights {
+    lo: f64,
+    hi: f64,
+}
+
+impl Heights {
+    const ALL: Self = Self {
+        lo: f64::NEG_INFINITY,
+        hi: f64::INFINITY,
+    };
+
+    /// Keeps the heights where `p + q sy >= 0`.
+    fn where_nonnegative(self, p: f64, q: f64) -> Self {
+        if q > 0.0 {
+            Self {
+                lo: self.lo.max(-p / q),
+                ..self
+            }
+        } else if q < 0.0 {
+            Self {
+                hi: self.hi.min(-p / q),
+                ..self
+            }
+        } else if p >= 0.0 {
+            self
+        } else {
+            Self {
+                lo: f64::INFINITY,
+                hi: f64::NEG_INFINITY,
+            }
+        }
+    }
+
+    /// The smallest set holding both.
+    fn hull(self, other: Self) -> Self {
+        Self {
+            lo: self.lo.min(other.lo),
+            hi: self.hi.max(other.hi),
+        }
+    }
+}
+
+impl View {
+    fn of<S: Scalar>(camera: &Camera<S>) -> Self {
+        let eye = camera.viewpoint().to_f64();
+        let rows = f64::from(camera.height().saturating_sub(1).max(1));
+        Self {
+            eye: [eye.y, eye.z],
+            row_height: camera.world()[1].to_f64() / rows,
+            height: camera.height(),
+        }
+    }
+
+    /// The rows whose primary rays can reach `object`.
+    fn rows_of<S: Scalar>(&self, object: &Object<S>, resolution: f64) -> RowSpan {
+        let heights = match object.shape() {
+            Shape::Sphere(s) => self.sphere(s.center.to_f64(), s.radius.to_f64(), resolution),
+            Shape::FPlane(rect) => self.outline(&corners(rect), resolution),
+            Shape::TexPlane(t) => self.outline(&corners(&t.rect), resolution),
+            Shape::Plane(p) => self.plane(p),
+            Shape::TiledPlane(t) => self.plane(&t.rect.plane),
+        };
+        self.span(heights)
+    }
+
+    /// The direction from the eye through screen height `sy` is `(sy - eye.y, -eye.z)`;
+    /// it lies in the arc from `from` counter-clockwise to `to` (less than half a turn)
+    /// when `from x d >= 0` and `d x to >= 0`, two conditions linear in `sy`.
+    fn arc(&self, from: f64, to: f64) -> Heights {
+        if !(to - from < PI) {
+            return Heights::ALL;
+        }
+        let [ey, ez] = self.eye;
+        let (a, b) = (
+            [libm::cos(from), libm::sin(from)],
+            [libm::cos(to), libm::sin(to)],
+        );
+        Heights::ALL
+            .where_nonnegative(-a[0] * ez + a[1] * ey, -a[1])
+            .where_nonnegative(ez * b[0] - b[1] * ey, b[1])
+    }
+
+    /// A sphere, seen along x, is a disc.
+    fn sphere(&self, center: Vec3<f64>, radius: f64, resolution: f64) -> Heights {
+        let c = [center.y - self.eye[0], center.z - self.eye[1]];
+        let distance = libm::hypot(c[0], c[1]);
+        let r = radius + ANGLE_MARGIN * (distance + radius) + RESOLUTION_STEPS * resolution;
+        if !(distance > r) {
+            return Heights::ALL;
+        }
+        let middle = libm::atan2(c[1], c[0]);
+        let half = libm::asin(r / distance) + ANGLE_MARGIN;
+        if !(half < FRAC_PI_2) {
+            return Heights::ALL;
+        }
+        self.arc(middle - half, middle + half)
+    }
+
+    /// A rectangle, seen along x, is the hull of its corners: the arc their directions span.
+    fn outline(&self, corners: &[Vec3<f64>; 4], resolution: f64) -> Heights {
+        let mut first = None;
+        let (mut low, mut high) = (0.0f64, 0.0f64);
+        let mut widen = ANGLE_MARGIN;
+        for corner in corners {
+            let c = [corner.y - self.eye[0], corner.z - self.eye[1]];
+            let distance = libm::hypot(c[0], c[1]);
+            let blur = RESOLUTION_STEPS * resolution + ANGLE_MARGIN * distance;
+            if !(distance > 2.0 * blur) {
+                return Heights::ALL;
+            }
+            widen = widen.max(ANGLE_MARGIN + libm::asin(blur / distance));
+            let angle = libm::atan2(c[1], c[0]);
+            let reference = *first.get_or_insert(angle);
+            // The angle relative to the first corner's, in (-pi, pi].
+            let mut relative = angle - reference;
+            if relative > PI {
+                relative -= 2.0 * PI;
+            } else if relative <= -PI {
+                relative += 2.0 * PI;
+            }
+            low = low.min(relative);
+            high = high.max(relative);
+        }
+        let reference = first.unwrap_or(0.0);
+        self.arc(reference + low - widen, reference + high + widen)
+    }
+
+    /// An infinite plane: all of the view unless it runs along x; then the half of the view
+    /// on its side of the horizon, widened by turning the normal both ways.
+    fn plane<S: Scalar>(&self, plane: &crate::object::Plane<S>) -> Heights {
+        let n = plane.unit_normal.to_f64();
+        if n.x != 0.0 {
+            return Heights::ALL;
+        }
+        let [ey, ez] = self.eye;
+        let side = plane.n_dot_point.to_f64() - (n.y * ey + n.z * ez);
+        // The eye near the plane sees it in every row.
+        if !(libm::fabs(side) > ANGLE_MARGIN * (libm::fabs(ey) + libm::fabs(ez) + 1.0)) {
+            return Heights::ALL;
+        }
+        // Hit when sign(side) (n . d) > 0, d = (sy - ey, -ez): linear in sy.
+        let facing = |angle: f64| {
+            let (ny, nz) = (
+                n.y * libm::cos(angle) - n.z * libm::sin(angle),
+                n.y * libm::sin(angle) + n.z * libm::cos(angle),
+            );
+            let sign = if side > 0.0 { 1.0 } else { -1.0 };
+            Heights::ALL.where_nonnegative(sign * (-ny * ey - nz * ez), sign * ny)
+        };
+        facing(ANGLE_MARGIN).hull(facing(-ANGLE_MARGIN))
+    }
+
+    /// The rows whose screen height lies in `heights`, one more on each side.
+    fn span(&self, heights: Heights) -> RowSpan {
+        let top = f64::from(self.height.saturating_sub(1));
+        let lo = libm::floor(heights.lo / self.row_height) - 1.0;
+        let hi = libm::ceil(heights.hi / self.row_height) + 1.0;
+        if lo.is_nan() || hi.is_nan() || !(self.row_height > 0.0) {
+            return RowSpan::ALL;
+        }
+        if lo > hi || hi < 0.0 || lo > top {
+            return RowSpan::NONE;
+        }
+        // Both clamped into 0..=top, which fits u16.
+        let to_row = |v: f64| v.clamp(0.0, top) as u16;
+        RowSpan {
+            first: to_row(lo),
+            last: to_row(hi),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::CameraDef;
+    use crate::light::LightDef;
+    use crate::material::MaterialDef;
+    use crate::object::ObjectDef;
+    use crate::scene::Scene;
+
+    const CAMERA: CameraDef<'static> = CameraDef::new("c", [80, 60], [8.0, 6.0], [4.0, 3.0, 6.0]);
+    const LIGHT: LightDef<'static> = LightDef::point("l", [4.0, 8.0, 2.0], [5.0; 3]);
+    const FLOOR: ObjectDef<'static> = ObjectDef::plane("f", "m", [0.0, 1.0, 0.0], [0.0; 3]);
+    const BALL: ObjectDef<'static> = ObjectDef::sphere("b", "m", [4.0, 3.0, -4.0], 1.0);
+
+    fn plan(
+        materials: &[MaterialDef<'_>],
+        lights: &[LightDef<'_>],
+        objects: &[ObjectDef<'_>],
+    ) -> Plan<4> {
+        let scene: Scene<'_, f64, 4, 4, 2, 0, 80> =
+            Scene::from_defs(&CAMERA, materials, &[], lights, objects).unwrap();
+        Plan::new(
+            scene.camera(),
+            scene.materials(),
+            scene.lights(),
+            scene.objects(),
+            scene.z_limit(),
+        )
+    }
+
+    #[test]
+    fn stages_follow_the_scene() {
+        let matte = [MaterialDef::new("m").diffuse([1.0; 3])];
+        let s = plan(&matte, &[], &[FLOOR, BALL]).stages();
+        assert!(!s.illumination && !s.shadows && !s.reflection && !s.transparency && !s.glints);
+        let s = plan(&matte, &[LIGHT], &[FLOOR, BALL]).stages();
+        assert!(s.illumination && s.shadows && !s.filtered_shadows && !s.reflection);
+        // One object cannot shadow itself.
+        assert!(!plan(&matte, &[LIGHT], &[BALL]).stages().shadows);
+        let glass = [MaterialDef::new("m")
+            .diffuse([1.0; 3])
+            .transparency(0.5)
+            .specular(0.2)];
+        let s = plan(&glass, &[LIGHT], &[FLOOR, BALL]).stages();
+        assert!(
+            s.transparency && s.filtered_shadows && s.reflection && !s.glints,
+            "{s:?}"
+        );
+        let shiny = [MaterialDef::new("m").shininess(8.0)];
+        assert!(plan(&shiny, &[LIGHT], &[BALL]).stages().glints);
+        // A mirror material nobody uses needs no reflection rays.
+        let unused = [
+            MaterialDef::new("m"),
+            MaterialDef::new("mirror").specular(1.0),
+        ];
+        assert!(!plan(&unused, &[LIGHT], &[BALL]).stages().reflection);
+    }
+
+    #[test]
+    fn objects_wholly_in_front_of_the_image_plane_are_dropped() {
+        let m = [MaterialDef::new("m")];
+        let near = ObjectDef::sphere("n", "m", [4.0, 3.0, 2.0], 1.0);
+        let poking = ObjectDef::sphere("p", "m", [4.0, 3.0, 0.5], 1.0);
+        let front = ObjectDef::plane("w", "m", [0.0, 0.0, 1.0], [0.0, 0.0, 1.0]);
+        let p = plan(&m, &[], &[near, poking, front, BALL]);
+        assert_eq!(p.kept(), &[1, 3]);
+    }
+
+    #[test]
+    fn spans_are_tight_for_a_ball_and_the_horizon() {
+        let m = [MaterialDef::new("m")];
+        let p = plan(&m, &[], &[FLOOR, BALL]);
+        let [floor, ball] = [p.spans()[0], p.spans()[1]];
+        // The floor is below the eye (y = 3): the rows below the horizon at screen height 3
+        // (row 29.5 of 0..59), one more for the margin.
+        assert_eq!((floor.first, floor.last), (0, 31));
+        // The ball (radius 1 at distance 10 from the eye, centred on the eye's height) spans
+        // 2 * 6 / sqrt(99) = 1.206 world units on the screen: rows 23.5 to 35.5, widened.
+        assert!(ball.first >= 21 && ball.first <= 23, "{ball:?}");
+        assert!(ball.last >= 36 && ball.last <= 38, "{ball:?}");
+        assert_eq!(p.objects_in_row(5).as_slice(), &[0]);
+        assert_eq!(p.objects_in_row(30).as_slice(), &[0, 1]);
+        assert_eq!(p.objects_in_row(50).as_slice(), &[] as &[u16]);
+        assert_eq!(ball.rows(60), ball.last - ball.first + 1);
+        assert_eq!(RowSpan::NONE.rows(60), 0);
+        assert_eq!(RowSpan::ALL.rows(60), 60);
+    }
+}

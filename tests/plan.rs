@@ -1,0 +1,242 @@
+//! The render plan changes no pixel: for every conformance and project scene and every number
+//! type, the planned render equals the render without a plan (every stage on, every ray
+//! tested against every object), in colours and in the object-id view. And the plan does
+//! skip work, or this would compare a path with itself.
+
+mod common;
+
+use microray::Scalar;
+use microray::host::{Framebuffer, HostRenderer, HostScene, texture_files};
+use microray::parse::parse_scene;
+use microray::plan::Stages;
+use microray::render::{Renderer, Shading};
+use microray::scalar::I16F16;
+use std::ops::ControlFlow;
+use std::path::{Path, PathBuf};
+
+fn scenes() -> Vec<PathBuf> {
+    let mut scenes = common::project_scenes();
+    scenes.extend(common::scene_files(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes"),
+    ));
+    if let Some(dir) = common::conformance_dir() {
+        scenes.extend(common::scene_files(&dir));
+    }
+    scenes
+}
+
+fn load<S: Scalar>(path: &Path) -> HostScene<'static, S> {
+    let text = std::fs::read(path).unwrap();
+    parse_scene(&text, texture_files(path.parent().unwrap()))
+        .unwrap_or_else(|e| panic!("{} in {}: {e}", path.display(), S::NAME))
+}
+
+fn image<S: Scalar>(renderer: &HostRenderer<'_, S>) -> Framebuffer {
+    let size = renderer.size();
+    let mut image = Framebuffer::new(size);
+    let mut row = vec![Default::default(); size.width as usize];
+    let all = embedded_graphics::primitives::Rectangle::new(Default::default(), size);
+    renderer
+        .render_area(&mut image, all, &mut row, |_| ControlFlow::Continue(()))
+        .unwrap();
+    image
+}
+
+/// What a scene's plan skips, summed over the scenes of one run.
+#[derive(Default, Debug)]
+struct Skipped {
+    /// (object, row) pairs whose primary-ray tests the row lists leave out.
+    culled_object_rows: u64,
+    /// Stages switched off, over all scenes.
+    stages_off: usize,
+    /// Scenes whose shadow rays use the any-hit test.
+    any_hit_shadows: usize,
+}
+
+fn identical_with_and_without_plan<S: Scalar>() -> Skipped {
+    let mut skipped = Skipped::default();
+    for path in scenes() {
+        let scene = load::<S>(&path);
+        let planned: HostRenderer<'_, S> = Renderer::new(&scene);
+        let unplanned = planned.clone().with_plan(false);
+        for shading in [Shading::Color, Shading::Ids] {
+            let a = image(&planned.clone().with_shading(shading));
+            let b = image(&unplanned.clone().with_shading(shading));
+            let differing = a
+                .rgb()
+                .chunks(3)
+                .zip(b.rgb().chunks(3))
+                .filter(|(p, q)| p != q)
+                .count();
+            assert_eq!(
+                differing,
+                0,
+                "{} in {} ({shading:?}): {differing} pixels differ with the plan",
+                path.display(),
+                S::NAME
+            );
+        }
+        let plan = planned.plan();
+        let height = scene.camera().height();
+        skipped.culled_object_rows += plan
+            .spans()
+            .iter()
+            .map(|s| u64::from(height - s.rows(height)))
+            .sum::<u64>();
+        let stages = plan.stages();
+        let all = Stages::ALL;
+        skipped.stages_off += [
+            stages.illumination != all.illumination,
+            stages.shadows != all.shadows,
+            stages.reflection != all.reflection,
+            stages.transparency != all.transparency,
+            stages.glints != all.glints,
+        ]
+        .into_iter()
+        .filter(|&off| off)
+        .count();
+        skipped.any_hit_shadows += usize::from(stages.shadows && !stages.filtered_shadows);
+    }
+    eprintln!("{}: {skipped:?}", S::NAME);
+    assert!(
+        skipped.culled_object_rows > 0 && skipped.stages_off > 0 && skipped.any_hit_shadows > 0,
+        "the plan skipped nothing: the comparison would be vacuous ({skipped:?})"
+    );
+    skipped
+}
+
+#[test]
+fn f64_plan_changes_no_pixel() {
+    identical_with_and_without_plan::<f64>();
+}
+
+#[test]
+fn f32_plan_changes_no_pixel() {
+    identical_with_and_without_plan::<f32>();
+}
+
+#[test]
+fn i16f16_plan_changes_no_pixel() {
+    identical_with_and_without_plan::<I16F16>();
+}
+
+/// The many-spheres scene is where row culling pays: each row's list holds only a few of
+/// its hundred spheres.
+#[test]
+fn rows_of_many_spheres_hold_few_spheres() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/many_spheres.txt");
+    let scene = load::<f32>(&path);
+    let renderer: HostRenderer<'_, f32> = Renderer::new(&scene);
+    let plan = renderer.plan();
+    let height = scene.camera().height();
+    let most = (0..height)
+        .map(|y| plan.objects_in_row(y).len())
+        .max()
+        .unwrap();
+    assert_eq!(plan.kept().len(), 101);
+    // A sphere 0.5 across at distance 7.5 to 9 covers about 13 of 240 rows plus margins;
+    // rows cross at most two rows of ten spheres, plus the floor.
+    assert!(most <= 21, "a row holds {most} objects");
+}
+
+mod random_geometry {
+    //! Row spans hold every row whose primary rays hit the object, for random cameras (eyes
+    //! in front of, on and behind the image plane) and random objects of every bounded and
+    //! unbounded kind, in every number type.
+    use microray::object::{ObjectDef, RectDef};
+    use microray::render::Renderer;
+    use microray::scalar::I16F16;
+    use microray::{CameraDef, MaterialDef, Scalar, Scene};
+    use proptest::prelude::*;
+
+    fn coordinate(range: std::ops::Range<f64>) -> impl Strategy<Value = f64> {
+        // Whole quarters as often as not: axis-aligned and tangent cases are the edge cases.
+        prop_oneof![range.clone(), range.prop_map(|v| (v * 4.0).round() / 4.0)]
+    }
+
+    fn vector(extent: f64) -> impl Strategy<Value = [f64; 3]> {
+        [
+            coordinate(-extent..extent),
+            coordinate(-extent..extent),
+            coordinate(-extent..extent),
+        ]
+    }
+
+    fn direction() -> impl Strategy<Value = [f64; 3]> {
+        prop_oneof![
+            Just([0.0, 1.0, 0.0]),
+            Just([0.0, 0.0, 1.0]),
+            Just([0.0, -1.0, 1.0]),
+            Just([1.0, 0.0, 0.0]),
+            vector(1.0),
+        ]
+        .prop_filter("a direction", |v| {
+            v.iter().map(|c| c * c).sum::<f64>() > 1e-3
+        })
+    }
+
+    fn object() -> impl Strategy<Value = ObjectDef<'static>> {
+        let rect = (
+            direction(),
+            vector(8.0),
+            direction(),
+            0.1..6.0f64,
+            0.1..6.0f64,
+        )
+            .prop_map(|(n, p, x, w, h)| RectDef::new(n, p, x, [w, h]));
+        prop_oneof![
+            (vector(10.0), 0.05..4.0f64).prop_map(|(c, r)| ObjectDef::sphere("o", "m", c, r)),
+            (direction(), vector(8.0)).prop_map(|(n, p)| ObjectDef::plane("o", "m", n, p)),
+            rect.prop_map(|r| ObjectDef::fplane("o", "m", r)),
+        ]
+    }
+
+    fn camera() -> impl Strategy<Value = [f64; 3]> {
+        (
+            coordinate(-4.0..12.0),
+            coordinate(-4.0..10.0),
+            prop_oneof![coordinate(0.5..10.0), coordinate(-6.0..0.5)],
+        )
+            .prop_map(|(x, y, z)| [x, y, z])
+    }
+
+    fn check<S: Scalar>(eye: [f64; 3], object: &ObjectDef<'_>) -> Result<(), TestCaseError> {
+        let camera = CameraDef::new("c", [64, 48], [8.0, 6.0], eye);
+        let materials = [MaterialDef::new("m").ambient([1.0; 3])];
+        let Ok(scene) = Scene::<'_, S, 2, 1, 1, 0, 64>::from_defs(
+            &camera,
+            &materials,
+            &[],
+            &[],
+            core::slice::from_ref(object),
+        ) else {
+            // Rejected for this type (a rectangle's xdir along its normal, ...).
+            return Ok(());
+        };
+        let renderer = Renderer::new(&scene);
+        let plan = renderer.plan();
+        let unplanned = renderer.clone().with_plan(false);
+        for row in 0..48u16 {
+            let y = 47 - row;
+            let seen = (0..64).any(|x| unplanned.object_at(x, row) == Some(0));
+            let listed = plan.objects_in_row(y).contains(&0);
+            prop_assert!(
+                !seen || listed,
+                "{}: row {y} sees the object but its list leaves it out (spans {:?})",
+                S::NAME,
+                plan.spans()
+            );
+        }
+        Ok(())
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2000))]
+        #[test]
+        fn spans_hold_every_row_that_sees_the_object(eye in camera(), object in object()) {
+            check::<f64>(eye, &object)?;
+            check::<f32>(eye, &object)?;
+            check::<I16F16>(eye, &object)?;
+        }
+    }
+}

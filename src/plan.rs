@@ -24,12 +24,15 @@ use crate::material::Material;
 use crate::object::{Object, Shape};
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;
-use core::f64::consts::{FRAC_PI_2, PI};
 use heapless::Vec;
 
 /// Angular widening of every bound, in radians: far above the direction error of any number
 /// type microray has (about 1e-5 for Q16.16).
 const ANGLE_MARGIN: f64 = 2e-3;
+
+/// `cos` and `sin` of [`ANGLE_MARGIN`] (no trigonometry in the library).
+const COS_MARGIN: f64 = 0.999_998_000_000_666_6;
+const SIN_MARGIN: f64 = 0.001_999_998_666_666_933_3;
 
 /// Widening in steps of the type's resolution (fixed point rounds every coordinate).
 const RESOLUTION_STEPS: f64 = 64.0;
@@ -249,6 +252,28 @@ fn corners<S: Scalar>(rect: &crate::object::Rect<S>) -> [Vec3<f64>; 4] {
     [p, p + across, p + across + up, p + up]
 }
 
+/// The 2-d cross product `a x b`: positive when `b` is anticlockwise of `a`.
+fn cross(a: [f64; 2], b: [f64; 2]) -> f64 {
+    a[0] * b[1] - a[1] * b[0]
+}
+
+fn length(a: [f64; 2]) -> f64 {
+    libm::sqrt(a[0] * a[0] + a[1] * a[1])
+}
+
+/// `a` turned by the angle whose cosine and sine are given (anticlockwise for `sin > 0`).
+fn turn(a: [f64; 2], cos: f64, sin: f64) -> [f64; 2] {
+    [a[0] * cos - a[1] * sin, a[0] * sin + a[1] * cos]
+}
+
+/// The sine and cosine of an angle widened by [`ANGLE_MARGIN`].
+fn widened(sin: f64, cos: f64) -> (f64, f64) {
+    (
+        sin * COS_MARGIN + cos * SIN_MARGIN,
+        cos * COS_MARGIN - sin * SIN_MARGIN,
+    )
+}
+
 /// The camera seen along the x axis: the eye `(y, z)` and how a row maps to the image plane.
 struct View {
     eye: [f64; 2],
@@ -325,65 +350,69 @@ impl View {
     }
 
     /// The direction from the eye through screen height `sy` is `(sy - eye.y, -eye.z)`;
-    /// it lies in the arc from `from` counter-clockwise to `to` (less than half a turn)
-    /// when `from x d >= 0` and `d x to >= 0`, two conditions linear in `sy`.
-    fn arc(&self, from: f64, to: f64) -> Heights {
-        if !(to - from < PI) {
+    /// it lies in the arc from direction `from` counter-clockwise to `to` (less than half a
+    /// turn) when `from x d >= 0` and `d x to >= 0`, two conditions linear in `sy`.
+    fn arc(&self, from: [f64; 2], to: [f64; 2]) -> Heights {
+        if !(cross(from, to) > 0.0) {
+            // Half a turn or more (or nothing to go by): every row.
             return Heights::ALL;
         }
         let [ey, ez] = self.eye;
-        let (a, b) = (
-            [libm::cos(from), libm::sin(from)],
-            [libm::cos(to), libm::sin(to)],
-        );
         Heights::ALL
-            .where_nonnegative(-a[0] * ez + a[1] * ey, -a[1])
-            .where_nonnegative(ez * b[0] - b[1] * ey, b[1])
+            .where_nonnegative(-from[0] * ez + from[1] * ey, -from[1])
+            .where_nonnegative(ez * to[0] - to[1] * ey, to[1])
     }
 
-    /// A sphere, seen along x, is a disc.
+    /// A sphere, seen along x, is a disc: the arc between the tangents from the eye.
     fn sphere(&self, center: Vec3<f64>, radius: f64, resolution: f64) -> Heights {
         let c = [center.y - self.eye[0], center.z - self.eye[1]];
-        let distance = libm::hypot(c[0], c[1]);
+        let distance = length(c);
         let r = radius + ANGLE_MARGIN * (distance + radius) + RESOLUTION_STEPS * resolution;
         if !(distance > r) {
             return Heights::ALL;
         }
-        let middle = libm::atan2(c[1], c[0]);
-        let half = libm::asin(r / distance) + ANGLE_MARGIN;
-        if !(half < FRAC_PI_2) {
+        // The tangents are c turned by the half angle a, sin a = r / distance, then widened.
+        let sin = r / distance;
+        let (sin, cos) = widened(sin, libm::sqrt(1.0 - sin * sin));
+        if !(cos > 0.0) {
             return Heights::ALL;
         }
-        self.arc(middle - half, middle + half)
+        self.arc(turn(c, cos, -sin), turn(c, cos, sin))
     }
 
     /// A rectangle, seen along x, is the hull of its corners: the arc their directions span.
     fn outline(&self, corners: &[Vec3<f64>; 4], resolution: f64) -> Heights {
-        let mut first = None;
-        let (mut low, mut high) = (0.0f64, 0.0f64);
-        let mut widen = ANGLE_MARGIN;
-        for corner in corners {
+        let mut directions = [[0.0; 2]; 4];
+        let mut blur_sin = 0.0f64;
+        for (corner, direction) in corners.iter().zip(&mut directions) {
             let c = [corner.y - self.eye[0], corner.z - self.eye[1]];
-            let distance = libm::hypot(c[0], c[1]);
+            let distance = length(c);
             let blur = RESOLUTION_STEPS * resolution + ANGLE_MARGIN * distance;
             if !(distance > 2.0 * blur) {
                 return Heights::ALL;
             }
-            widen = widen.max(ANGLE_MARGIN + libm::asin(blur / distance));
-            let angle = libm::atan2(c[1], c[0]);
-            let reference = *first.get_or_insert(angle);
-            // The angle relative to the first corner's, in (-pi, pi].
-            let mut relative = angle - reference;
-            if relative > PI {
-                relative -= 2.0 * PI;
-            } else if relative <= -PI {
-                relative += 2.0 * PI;
-            }
-            low = low.min(relative);
-            high = high.max(relative);
+            blur_sin = blur_sin.max(blur / distance);
+            *direction = c;
         }
-        let reference = first.unwrap_or(0.0);
-        self.arc(reference + low - widen, reference + high + widen)
+        // Sweep out the extremes from the first corner; within less than half a turn each
+        // corner is clockwise of `low`, anticlockwise of `high`, or between them.
+        let (mut low, mut high) = (directions[0], directions[0]);
+        for &d in &directions[1..] {
+            if cross(high, d) > 0.0 {
+                high = d;
+            } else if cross(d, low) > 0.0 {
+                low = d;
+            }
+        }
+        // More than half a turn (the eye inside the outline) breaks the sweep: all rows.
+        let spans_all = directions
+            .iter()
+            .all(|&d| cross(low, d) >= 0.0 && cross(d, high) >= 0.0);
+        if !spans_all || cross(low, high) < 0.0 {
+            return Heights::ALL;
+        }
+        let (sin, cos) = widened(blur_sin, libm::sqrt(1.0 - blur_sin * blur_sin));
+        self.arc(turn(low, cos, -sin), turn(high, cos, sin))
     }
 
     /// An infinite plane: all of the view unless it runs along x; then the half of the view
@@ -400,15 +429,12 @@ impl View {
             return Heights::ALL;
         }
         // Hit when sign(side) (n . d) > 0, d = (sy - ey, -ez): linear in sy.
-        let facing = |angle: f64| {
-            let (ny, nz) = (
-                n.y * libm::cos(angle) - n.z * libm::sin(angle),
-                n.y * libm::sin(angle) + n.z * libm::cos(angle),
-            );
-            let sign = if side > 0.0 { 1.0 } else { -1.0 };
+        let sign = if side > 0.0 { 1.0 } else { -1.0 };
+        let facing = |sin: f64| {
+            let [ny, nz] = turn([n.y, n.z], COS_MARGIN, sin);
             Heights::ALL.where_nonnegative(sign * (-ny * ey - nz * ez), sign * ny)
         };
-        facing(ANGLE_MARGIN).hull(facing(-ANGLE_MARGIN))
+        facing(SIN_MARGIN).hull(facing(-SIN_MARGIN))
     }
 
     /// The rows whose screen height lies in `heights`, one more on each side.
@@ -459,6 +485,12 @@ mod tests {
             scene.objects(),
             scene.z_limit(),
         )
+    }
+
+    #[test]
+    fn margin_constants_are_the_cosine_and_sine_of_the_margin() {
+        assert!((COS_MARGIN - libm::cos(ANGLE_MARGIN)).abs() < 1e-16);
+        assert!((SIN_MARGIN - libm::sin(ANGLE_MARGIN)).abs() < 1e-18);
     }
 
     #[test]

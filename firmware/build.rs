@@ -11,6 +11,8 @@ fn main() {
     let out = PathBuf::from(env::var("OUT_DIR").unwrap());
     let manifest = PathBuf::from(env::var("CARGO_MANIFEST_DIR").unwrap());
     let microbit = env::var_os("CARGO_FEATURE_MICROBIT").is_some();
+    // Without the `full` feature there is no parser: no scene files.
+    let parser = env::var_os("CARGO_FEATURE_FULL").is_some();
     let memory = if microbit {
         // nRF51822: 256 KiB flash, 16 KiB RAM.
         "MEMORY { FLASH : ORIGIN = 0x00000000, LENGTH = 256K\n RAM : ORIGIN = 0x20000000, LENGTH = 16K }\n"
@@ -60,7 +62,7 @@ fn main() {
     let mut skipped = String::from("pub const SKIPPED: &[(&str, &str)] = &[\n");
     for path in files {
         let name = path.file_stem().unwrap().to_str().unwrap().to_string();
-        if only.as_ref().is_some_and(|names| !names.contains(&name)) {
+        if !parser || only.as_ref().is_some_and(|names| !names.contains(&name)) {
             continue;
         }
         let text = fs::read_to_string(&path).unwrap();

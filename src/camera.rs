@@ -2,10 +2,12 @@
 
 use crate::error::{Attr, ErrorKind};
 use crate::name::{Name, bounded};
+#[cfg(feature = "print")]
 use crate::print;
 use crate::ray::Ray;
 use crate::scalar::{Scalar, load_length, load_position};
 use crate::vec3::Vec3;
+#[cfg(feature = "print")]
 use core::fmt;
 
 /// A camera as written in a scene (or in Rust source): plain `f64` data.
@@ -155,6 +157,7 @@ impl<S: Scalar> Camera<S> {
     }
 
     /// Writes the camera block.
+    #[cfg(feature = "print")]
     pub fn print(&self, out: &mut dyn fmt::Write, scale: f64) -> fmt::Result {
         print::header(out, "camera", &self.name)?;
         writeln!(out, "  {} {} {}", Attr::Pixeldim, self.width, self.height)?;

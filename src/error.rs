@@ -103,7 +103,98 @@ pub enum Entity {
     TexPlane,
 }
 
+/// A cargo feature a scene can need: object kinds and shading stages beyond planes,
+/// spheres, point lights, ambient and diffuse light.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Feature {
+    /// `fplane` objects.
+    FPlane,
+    /// `tiled_plane` objects.
+    TiledPlane,
+    /// Textures and `texplane` objects.
+    Texture,
+    /// Spotlights.
+    Spotlight,
+    /// Mirror reflection: a material's `specular`.
+    Reflection,
+    /// Transparency: a material's `transparency`.
+    Transparency,
+    /// Glints: a material's `shininess`.
+    Glint,
+}
+
+impl Feature {
+    /// The cargo feature's name.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Feature::FPlane => "fplane",
+            Feature::TiledPlane => "tiled-plane",
+            Feature::Texture => "texture",
+            Feature::Spotlight => "spotlight",
+            Feature::Reflection => "reflection",
+            Feature::Transparency => "transparency",
+            Feature::Glint => "glint",
+        }
+    }
+
+    /// What it provides, for error messages.
+    pub const fn what(self) -> &'static str {
+        match self {
+            Feature::FPlane => "finite planes (`fplane`)",
+            Feature::TiledPlane => "tiled planes (`tiled_plane`)",
+            Feature::Texture => "textures (`texture`, `texplane`)",
+            Feature::Spotlight => "spotlights",
+            Feature::Reflection => "mirror reflection (`specular`)",
+            Feature::Transparency => "transparency (`transparency`)",
+            Feature::Glint => "glints (`shininess`)",
+        }
+    }
+
+    /// Whether this build has it. The code a feature gates is behind this constant, so a
+    /// build without the feature leaves that code out of the binary.
+    pub const fn enabled(self) -> bool {
+        match self {
+            Feature::FPlane => cfg!(feature = "fplane"),
+            Feature::TiledPlane => cfg!(feature = "tiled-plane"),
+            Feature::Texture => cfg!(feature = "texture"),
+            Feature::Spotlight => cfg!(feature = "spotlight"),
+            Feature::Reflection => cfg!(feature = "reflection"),
+            Feature::Transparency => cfg!(feature = "transparency"),
+            Feature::Glint => cfg!(feature = "glint"),
+        }
+    }
+
+    /// `Ok` when this build has the feature, else the error that says so.
+    pub const fn require(self, attr: Option<Attr>) -> Result<(), ErrorKind> {
+        if self.enabled() {
+            Ok(())
+        } else {
+            Err(ErrorKind::NotCompiledIn {
+                feature: self,
+                attr,
+            })
+        }
+    }
+}
+
 impl Entity {
+    /// The attributes the entity takes, in the order the printer writes them.
+    pub const fn attributes(self) -> &'static [Attr] {
+        use Attr::*;
+        match self {
+            Entity::Camera => &[Pixeldim, Worlddim, Viewpoint],
+            Entity::Material => &[Ambient, Diffuse, Specular, Shininess, Transparency],
+            Entity::Light => &[Location, Emissivity],
+            Entity::Spotlight => &[Location, Emissivity, Point, Theta],
+            Entity::Plane => &[Material, Normal, Point],
+            Entity::Sphere => &[Material, Center, Radius],
+            Entity::FPlane => &[Material, Normal, Point, Xdir, Dimensions],
+            Entity::TiledPlane => &[Material, Normal, Point, Xdir, Dimensions, Altmaterial],
+            Entity::Texture => &[Filename],
+            Entity::TexPlane => &[Material, Normal, Point, Xdir, Dimensions, Texname, Mode],
+        }
+    }
+
     /// Every entity, in the order the error messages list them.
     pub const ALL: [Entity; 10] = [
         Entity::Camera,
@@ -568,6 +659,13 @@ pub enum ErrorKind {
     },
     /// A transparent material filters light by its diffuse colour, so it needs one.
     TransparentWithoutDiffuse,
+    /// The scene needs something this build of microray left out (a cargo feature).
+    NotCompiledIn {
+        /// The feature that would provide it.
+        feature: Feature,
+        /// The attribute that asks for it; `None` when the whole block does.
+        attr: Option<Attr>,
+    },
     /// A bounded list is full.
     CapacityExceeded {
         /// Which list.
@@ -602,6 +700,7 @@ impl ErrorKind {
             ErrorKind::UndefinedTexture { .. } => Some(Attr::Texname),
             ErrorKind::TransparentWithoutDiffuse => Some(Attr::Transparency),
             ErrorKind::Texture { .. } => Some(Attr::Filename),
+            ErrorKind::NotCompiledIn { attr, .. } => attr,
             _ => None,
         }
     }
@@ -636,12 +735,7 @@ impl fmt::Display for ErrorKind {
             }
             ErrorKind::UnknownAttribute { entity, found } => {
                 write!(f, "unknown attribute {found} in {entity} (expected ")?;
-                write_list(
-                    f,
-                    crate::parse::attributes_of(entity)
-                        .iter()
-                        .map(|a| a.keyword()),
-                )?;
+                write_list(f, entity.attributes().iter().map(|a| a.keyword()))?;
                 write!(f, " or `}}`)")
             }
             ErrorKind::MaterialNotFirst { entity } => {
@@ -774,6 +868,12 @@ impl fmt::Display for ErrorKind {
                 )
             }
             ErrorKind::OutOfRange { attr, range } => write!(f, "`{attr}` must be {range}"),
+            ErrorKind::NotCompiledIn { feature, .. } => write!(
+                f,
+                "this build of microray leaves out {} (cargo feature `{}`)",
+                feature.what(),
+                feature.name()
+            ),
             ErrorKind::TransparentWithoutDiffuse => write!(
                 f,
                 "a transparent material needs a positive `diffuse` (it filters light by the diffuse colour)"

@@ -59,13 +59,17 @@
 )]
 
 pub mod camera;
+#[cfg(any(feature = "parser", feature = "print"))]
+pub mod decimal;
 pub mod error;
 pub mod light;
 pub mod material;
 pub mod name;
 pub mod object;
+#[cfg(feature = "parser")]
 pub mod parse;
 pub mod plan;
+#[cfg(feature = "print")]
 pub mod print;
 pub mod range;
 pub mod ray;

@@ -1,10 +1,12 @@
 //! Lights: point lights and spotlights.
 
-use crate::error::{Attr, ErrorKind, Range};
+use crate::error::{Attr, ErrorKind, Feature, Range};
 use crate::name::{Name, bounded};
+#[cfg(feature = "print")]
 use crate::print;
 use crate::scalar::{Scalar, load, load_position};
 use crate::vec3::Vec3;
+#[cfg(feature = "print")]
 use core::fmt;
 
 /// The cone of a spotlight as written.
@@ -97,6 +99,7 @@ impl<S: Scalar> Light<S> {
         let spot = match def.spot {
             None => None,
             Some(cone) => {
+                Feature::Spotlight.require(None)?;
                 let point = load_position::<S>(cone.point, scale, Attr::Point)?;
                 let theta = load::<S>(cone.theta, Attr::Theta)?;
                 if !(0.0..=180.0).contains(&cone.theta) {
@@ -132,6 +135,7 @@ impl<S: Scalar> Light<S> {
     }
 
     /// Writes the light or spotlight block.
+    #[cfg(feature = "print")]
     pub fn print(&self, out: &mut dyn fmt::Write, scale: f64) -> fmt::Result {
         let keyword = if self.spot.is_some() {
             "spotlight"

@@ -1,10 +1,12 @@
 //! Materials: plain data that objects refer to by index.
 
-use crate::error::{Attr, ErrorKind, Range};
+use crate::error::{Attr, ErrorKind, Feature, Range};
 use crate::name::{Name, bounded};
+#[cfg(feature = "print")]
 use crate::print;
 use crate::scalar::{Scalar, load, load_position, load3};
 use crate::vec3::Vec3;
+#[cfg(feature = "print")]
 use core::fmt;
 
 /// Index of a material in its scene.
@@ -112,6 +114,15 @@ impl<S: Scalar> Material<S> {
                 range: Range::ZeroToOne,
             });
         }
+        if def.specular != 0.0 {
+            Feature::Reflection.require(Some(Attr::Specular))?;
+        }
+        if def.shininess != 0.0 {
+            Feature::Glint.require(Some(Attr::Shininess))?;
+        }
+        if def.transparency != 0.0 {
+            Feature::Transparency.require(Some(Attr::Transparency))?;
+        }
         // Computed from the stored values so that a printed and re-read scene is equal.
         let diffuse64 = diffuse.to_f64();
         let strongest = diffuse64.max_component();
@@ -141,6 +152,7 @@ impl<S: Scalar> Material<S> {
     }
 
     /// Writes the material block; zero attributes other than the colours are left out.
+    #[cfg(feature = "print")]
     pub fn print(&self, out: &mut dyn fmt::Write, scale: f64) -> fmt::Result {
         print::header(out, "material", &self.name)?;
         print::vector(out, Attr::Ambient, self.ambient, scale)?;

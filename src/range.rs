@@ -24,10 +24,13 @@
 //! The course's scenes (coordinates up to 20, ambient up to 2, diffuse times emissivity up to
 //! 160) need no scaling in any type.
 
+#[cfg(feature = "parser")]
 use crate::error::Error;
 use crate::object::ShapeDef;
-use crate::parse::grammar::{Item, walk};
+#[cfg(feature = "parser")]
+use crate::parse::grammar::walk;
 use crate::scalar::{I16F16, Scalar};
+use crate::scene::Item;
 
 /// The size of a scene: the largest coordinate and the smallest length in it, and the
 /// brightest values that scaling multiplies.
@@ -139,6 +142,7 @@ impl Extent {
 }
 
 /// Measures a scene file (without loading textures).
+#[cfg(feature = "parser")]
 pub fn scene_extent(text: &[u8]) -> Result<Extent, Error> {
     let mut extent = Extent::EMPTY;
     walk(text, |item| {
@@ -198,6 +202,7 @@ pub enum Target {
 /// assert_eq!(choose_number_type(tiny, Target::NoFpu)?, NumberType::F32);
 /// # Ok::<(), microray::Error>(())
 /// ```
+#[cfg(feature = "parser")]
 pub fn choose_number_type(text: &[u8], target: Target) -> Result<NumberType, Error> {
     let extent = scene_extent(text)?;
     Ok(match target {

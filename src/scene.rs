@@ -5,16 +5,30 @@
 //! an [`ErrorKind::CapacityExceeded`], never a panic.
 
 use crate::camera::{Camera, CameraDef};
-use crate::error::{Collection, Entity, Error, ErrorKind, Snippet};
+use crate::error::{Collection, Entity, Error, ErrorKind, Feature, Snippet};
 use crate::light::{Light, LightDef};
 use crate::material::{Material, MaterialDef, MaterialId};
 use crate::object::{Hit, Object, ObjectDef, Palette, Z_LIMIT, closest_hit};
-use crate::parse::grammar::Item;
 use crate::range::Extent;
 use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::texture::{Texture, TextureDef};
 use heapless::Vec;
+
+/// One definition of a scene, as written (a block of a file, or a `*Def` in source).
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Item<'i> {
+    Camera(CameraDef<'i>),
+    Material(MaterialDef<'i>),
+    Light(LightDef<'i>),
+    // Read by the parser's texture resolver.
+    #[cfg_attr(not(feature = "parser"), allow(dead_code))]
+    Texture {
+        name: &'i str,
+        filename: &'i str,
+    },
+    Object(ObjectDef<'i>),
+}
 
 /// The default widest image: the renderer keeps one row of this many pixels.
 pub const DEFAULT_MAX_WIDTH: usize = 1024;
@@ -131,6 +145,7 @@ impl<
 
     /// Adds a texture, decoding its PPM bytes; its name must be new.
     pub fn add_texture(&mut self, def: &TextureDef<'_, 't>) -> Result<(), ErrorKind> {
+        Feature::Texture.require(None)?;
         if self.find_texture(def.name).is_some() {
             return Err(ErrorKind::DuplicateName {
                 entity: Entity::Texture,

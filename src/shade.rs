@@ -118,14 +118,16 @@ impl<'s, S: Scalar> Shader<'s, S> {
         };
         let total = total + hit.t;
         let mut c = self.local(object, index, &hit, ray.base) / total;
-        if self.stages.reflection {
+        // `cfg!`: a build without the feature has no such materials (they fail to load), and
+        // the compiler drops the code.
+        if cfg!(feature = "reflection") && self.stages.reflection {
             let specular = object.specular(&self.palette, &hit);
             if specular != S::ZERO {
                 let reflected = Ray::new(hit.point, reflect(ray.dir, hit.normal));
                 c = c + self.trace(&reflected, total, Some(index), depth + 1) * specular;
             }
         }
-        if self.stages.transparency {
+        if cfg!(feature = "transparency") && self.stages.transparency {
             if let Some(material) = self.material_at(object, &hit) {
                 let tr = material.transparency;
                 if tr != S::ZERO {
@@ -182,14 +184,14 @@ impl<'s, S: Scalar> Shader<'s, S> {
         if !(cos > S::ZERO) {
             return Vec3::ZERO;
         }
-        if let Some(spot) = &light.spot {
+        if let Some(spot) = light.spot.as_ref().filter(|_| cfg!(feature = "spotlight")) {
             // unit(hit - location) is exactly -l.
             if !((-l).dot(spot.axis) > spot.cos_theta) {
                 return Vec3::ZERO;
             }
         }
         let mut lit = diffuse.mul_each(light.diffuse_emissivity);
-        if self.stages.shadows && self.stages.filtered_shadows {
+        if cfg!(feature = "transparency") && self.stages.shadows && self.stages.filtered_shadows {
             let Some(filter) = self.shadow_filter(hit.point, l, distance, index) else {
                 return Vec3::ZERO;
             };
@@ -203,7 +205,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
             }
         }
         let mut c = lit * cos / distance;
-        if self.stages.glints && shininess != S::ZERO {
+        if cfg!(feature = "glint") && self.stages.glints && shininess != S::ZERO {
             let halfway = (eye - hit.point).unit().and_then(|v| (v + l).unit());
             if let Some(h) = halfway {
                 c = c + light.emissivity * specular * h.dot(hit.normal).pow_positive(shininess);

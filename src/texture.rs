@@ -1,8 +1,10 @@
 //! Textures: binary PPM (P6) images, read in place from a byte slice.
 
-use crate::error::{Attr, ErrorKind, Snippet, TextureError};
+use crate::error::{ErrorKind, Snippet, TextureError};
 use crate::name::{FilePath, Name, bounded};
+#[cfg(feature = "print")]
 use crate::print;
+#[cfg(feature = "print")]
 use core::fmt;
 
 /// A texture as written: its name, its file name, and the file's bytes.
@@ -79,9 +81,10 @@ impl<'t> Texture<'t> {
     }
 
     /// Writes the texture block.
+    #[cfg(feature = "print")]
     pub fn print(&self, out: &mut dyn fmt::Write) -> fmt::Result {
         print::header(out, "texture", &self.name)?;
-        print::word(out, Attr::Filename, &self.filename)?;
+        print::word(out, crate::error::Attr::Filename, &self.filename)?;
         print::footer(out)
     }
 }

@@ -8,6 +8,8 @@
 #![no_std]
 #![no_main]
 
+mod basic_scene;
+#[cfg(feature = "full")]
 mod static_scene;
 
 use core::ops::ControlFlow;
@@ -18,7 +20,9 @@ use embedded_graphics::prelude::Point;
 use embedded_graphics::prelude::{DrawTarget, OriginDimensions, Pixel, Size};
 use embedded_graphics::primitives::Rectangle;
 use microray::Scene;
+#[cfg(feature = "full")]
 use microray::error::TextureError;
+#[cfg(feature = "full")]
 use microray::parse::parse_scene_into;
 use microray::render::Renderer;
 use panic_semihosting as _;
@@ -28,6 +32,8 @@ type Number = f32;
 #[cfg(feature = "fixed")]
 type Number = microray::scalar::I16F16;
 
+// Without `full` there are no scene files (no parser to read them).
+#[cfg_attr(not(feature = "full"), allow(dead_code))]
 mod scenes {
     pub struct SceneFile {
         pub name: &'static str,
@@ -36,7 +42,9 @@ mod scenes {
     }
     include!(concat!(env!("OUT_DIR"), "/scenes.rs"));
 }
-use scenes::{COMPARE_PLAN, HEIGHT, OBJECTS, SCENES, SKIPPED, WIDTH};
+#[cfg(feature = "full")]
+use scenes::SCENES;
+use scenes::{COMPARE_PLAN, HEIGHT, OBJECTS, SKIPPED, WIDTH};
 
 /// Capacities that hold every embedded scene (build.rs leaves out scenes with more objects
 /// than the machine has room for); files up to 800 pixels wide load (they are rendered at
@@ -187,6 +195,7 @@ fn report_frame(name: &str, suffix: &str, result: Result<(), &str>) {
 }
 
 /// Parses and renders one embedded scene file into the one scene there is.
+#[cfg(feature = "full")]
 #[inline(never)]
 fn run_file(file: &scenes::SceneFile, scene: &mut FirmwareScene) -> Result<(), &'static str> {
     let textures = |filename: &str| {
@@ -203,7 +212,8 @@ fn run_file(file: &scenes::SceneFile, scene: &mut FirmwareScene) -> Result<(), &
     render_to_file(file.name, scene)
 }
 
-/// Builds and renders the scene written in Rust source.
+/// Builds and renders the scene written in Rust source with every feature.
+#[cfg(feature = "full")]
 #[inline(never)]
 fn run_static(scene: &mut FirmwareScene) -> Result<(), &'static str> {
     scene
@@ -218,18 +228,39 @@ fn run_static(scene: &mut FirmwareScene) -> Result<(), &'static str> {
     render_to_file(static_scene::NAME, scene)
 }
 
+/// Builds and renders the scene written in Rust source that needs no optional feature.
+#[inline(never)]
+fn run_basic(scene: &mut FirmwareScene) -> Result<(), &'static str> {
+    scene
+        .load_defs(
+            &basic_scene::CAMERA,
+            &basic_scene::MATERIALS,
+            &[],
+            &basic_scene::LIGHTS,
+            &basic_scene::OBJECTS,
+        )
+        .map_err(|_| "basic scene does not load")?;
+    render_to_file(basic_scene::NAME, scene)
+}
+
 #[entry]
 fn main() -> ! {
     // The one scene, built in place for each file in turn.
     let mut scene = FirmwareScene::empty();
-    for file in SCENES {
+    #[cfg(feature = "full")]
+    {
+        for file in SCENES {
+            stack::paint();
+            let result = run_file(file, &mut scene);
+            report(file.name, result);
+        }
         stack::paint();
-        let result = run_file(file, &mut scene);
-        report(file.name, result);
+        let result = run_static(&mut scene);
+        report(static_scene::NAME, result);
     }
     stack::paint();
-    let result = run_static(&mut scene);
-    report(static_scene::NAME, result);
+    let result = run_basic(&mut scene);
+    report(basic_scene::NAME, result);
     for (name, why) in SKIPPED {
         hprintln!("microray scene {} skipped ({})", name, why);
     }

@@ -2,16 +2,18 @@
 //! and textured planes share.
 
 use super::{
-    Hit, Object, ObjectVTable, Palette, Shape, object_ambient, object_diffuse, object_material,
-    object_print, object_specular,
+    Hit, Object, ObjectVTable, Shape, object_ambient, object_diffuse, object_material,
+    object_specular,
 };
 use crate::error::{Attr, Entity, ErrorKind};
 use crate::material::MaterialId;
 use crate::object::plane::{Plane, PlaneDef};
+#[cfg(feature = "print")]
 use crate::print;
 use crate::ray::Ray;
 use crate::scalar::{Scalar, load_length, load3};
 use crate::vec3::Vec3;
+#[cfg(feature = "print")]
 use core::fmt;
 
 /// A rectangle as written: a plane, the direction of its x axis, and its size.
@@ -118,6 +120,7 @@ impl<S: Scalar> Rect<S> {
     }
 
     /// Writes the plane's attributes, `xdir` and `dimensions`.
+    #[cfg(feature = "print")]
     pub(crate) fn print_attributes(&self, out: &mut dyn fmt::Write, scale: f64) -> fmt::Result {
         self.plane.print_attributes(out, scale)?;
         print::vector(out, Attr::Xdir, self.xdir, 1.0)?;
@@ -128,6 +131,7 @@ impl<S: Scalar> Rect<S> {
     pub const VTABLE: ObjectVTable<S> = ObjectVTable {
         kind: Entity::FPlane,
         hits: fplane_hits,
+        #[cfg(feature = "print")]
         printer: fplane_print,
         material: object_material,
         ambient: object_ambient,
@@ -160,12 +164,13 @@ pub fn fplane_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>) -> Option<Hit<S>> {
 }
 
 /// `printer` of a finite plane.
+#[cfg(feature = "print")]
 pub fn fplane_print<S: Scalar>(
     obj: &Object<S>,
-    palette: &Palette<'_, S>,
+    palette: &super::Palette<'_, S>,
     out: &mut dyn fmt::Write,
 ) -> fmt::Result {
-    object_print(obj, palette, out)?;
+    super::object_print(obj, palette, out)?;
     if let Shape::FPlane(rect) = obj.shape() {
         rect.print_attributes(out, palette.scale)?;
     }

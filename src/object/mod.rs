@@ -15,14 +15,16 @@ pub mod texplane;
 pub mod tiled_plane;
 
 use crate::camera::Camera;
-use crate::error::{Attr, Entity, ErrorKind, Snippet};
+use crate::error::{Attr, Entity, ErrorKind, Feature, Snippet};
 use crate::material::{Material, MaterialId};
 use crate::name::{Name, bounded};
+#[cfg(feature = "print")]
 use crate::print;
 use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::texture::Texture;
 use crate::vec3::Vec3;
+#[cfg(feature = "print")]
 use core::fmt;
 
 pub use fplane::{Rect, RectDef};
@@ -75,6 +77,7 @@ pub struct ObjectVTable<S: Scalar> {
     /// rule, which depends on the scene's scale).
     pub hits: fn(&Object<S>, &Ray<S>) -> Option<Hit<S>>,
     /// Writes the object's block in scene text.
+    #[cfg(feature = "print")]
     pub printer: fn(&Object<S>, &Palette<'_, S>, &mut dyn fmt::Write) -> fmt::Result,
     /// The material in effect at a hit (the tiled plane's checkerboard overrides it).
     pub material: fn(&Object<S>, &Hit<S>) -> MaterialId,
@@ -143,6 +146,7 @@ impl<S: Scalar> Object<S> {
         (self.vtable.hits)(self, ray)
     }
     /// Writes the object's block.
+    #[cfg(feature = "print")]
     pub fn print(&self, palette: &Palette<'_, S>, out: &mut dyn fmt::Write) -> fmt::Result {
         (self.vtable.printer)(self, palette, out)
     }
@@ -195,6 +199,7 @@ pub fn object_no_hit<S: Scalar>(_: &Object<S>, _: &Ray<S>) -> Option<Hit<S>> {
 }
 
 /// The common printer (the C `object_print`): the block's header and its material.
+#[cfg(feature = "print")]
 pub fn object_print<S: Scalar>(
     obj: &Object<S>,
     palette: &Palette<'_, S>,
@@ -458,12 +463,17 @@ impl<S: Scalar> Object<S> {
         match &def.shape {
             ShapeDef::Plane(p) => plane::plane_init(def.name, material, p, scale),
             ShapeDef::Sphere(s) => sphere::sphere_init(def.name, material, s, scale),
-            ShapeDef::FPlane(r) => fplane::fplane_init(def.name, material, r, scale),
+            ShapeDef::FPlane(r) => {
+                Feature::FPlane.require(None)?;
+                fplane::fplane_init(def.name, material, r, scale)
+            }
             ShapeDef::TiledPlane(r, alt) => {
+                Feature::TiledPlane.require(None)?;
                 let alt = material_named(Attr::Altmaterial, alt)?;
                 tiled_plane::tiled_plane_init(def.name, material, r, alt, scale)
             }
             ShapeDef::TexPlane(r, texname, mode) => {
+                Feature::Texture.require(None)?;
                 let texture = find_texture(texname).ok_or(ErrorKind::UndefinedTexture {
                     name: Snippet::new(texname.as_bytes()),
                 })?;

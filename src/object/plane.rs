@@ -1,15 +1,17 @@
 //! The infinite plane: the seed's `plane_t`, `plane_init`, `plane_hits` and `plane_print`.
 
 use super::{
-    Hit, Object, ObjectVTable, Palette, Shape, ahead, object_ambient, object_diffuse,
-    object_material, object_print, object_specular,
+    Hit, Object, ObjectVTable, Shape, ahead, object_ambient, object_diffuse, object_material,
+    object_specular,
 };
 use crate::error::{Attr, Entity, ErrorKind};
 use crate::material::MaterialId;
+#[cfg(feature = "print")]
 use crate::print;
 use crate::ray::Ray;
 use crate::scalar::{Scalar, load, load_position, load3};
 use crate::vec3::Vec3;
+#[cfg(feature = "print")]
 use core::fmt;
 
 /// A plane as written.
@@ -73,6 +75,7 @@ impl<S: Scalar> Plane<S> {
     }
 
     /// Writes `normal` and `point`.
+    #[cfg(feature = "print")]
     pub(crate) fn print_attributes(&self, out: &mut dyn fmt::Write, scale: f64) -> fmt::Result {
         print::vector(out, Attr::Normal, self.normal, 1.0)?;
         print::vector(out, Attr::Point, self.point, scale)
@@ -82,6 +85,7 @@ impl<S: Scalar> Plane<S> {
     pub const VTABLE: ObjectVTable<S> = ObjectVTable {
         kind: Entity::Plane,
         hits: plane_hits,
+        #[cfg(feature = "print")]
         printer: plane_print,
         material: object_material,
         ambient: object_ambient,
@@ -114,12 +118,13 @@ pub fn plane_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>) -> Option<Hit<S>> {
 }
 
 /// `printer` of a plane: the common object printer first, then the plane's attributes.
+#[cfg(feature = "print")]
 pub fn plane_print<S: Scalar>(
     obj: &Object<S>,
-    palette: &Palette<'_, S>,
+    palette: &super::Palette<'_, S>,
     out: &mut dyn fmt::Write,
 ) -> fmt::Result {
-    object_print(obj, palette, out)?;
+    super::object_print(obj, palette, out)?;
     if let Shape::Plane(plane) = obj.shape() {
         plane.print_attributes(out, palette.scale)?;
     }

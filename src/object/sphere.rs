@@ -1,15 +1,17 @@
 //! The sphere.
 
 use super::{
-    Hit, Object, ObjectVTable, Palette, Shape, ahead, object_ambient, object_diffuse,
-    object_material, object_print, object_specular,
+    Hit, Object, ObjectVTable, Shape, ahead, object_ambient, object_diffuse, object_material,
+    object_specular,
 };
 use crate::error::{Attr, Entity, ErrorKind};
 use crate::material::MaterialId;
+#[cfg(feature = "print")]
 use crate::print;
 use crate::ray::Ray;
 use crate::scalar::{Scalar, load, load_length, load_position};
 use crate::vec3::Vec3;
+#[cfg(feature = "print")]
 use core::fmt;
 
 /// A sphere as written.
@@ -80,6 +82,7 @@ impl<S: Scalar> Sphere<S> {
     pub const VTABLE: ObjectVTable<S> = ObjectVTable {
         kind: Entity::Sphere,
         hits: sphere_hits,
+        #[cfg(feature = "print")]
         printer: sphere_print,
         material: object_material,
         ambient: object_ambient,
@@ -112,12 +115,13 @@ pub fn sphere_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>) -> Option<Hit<S>> {
 }
 
 /// `printer` of a sphere.
+#[cfg(feature = "print")]
 pub fn sphere_print<S: Scalar>(
     obj: &Object<S>,
-    palette: &Palette<'_, S>,
+    palette: &super::Palette<'_, S>,
     out: &mut dyn fmt::Write,
 ) -> fmt::Result {
-    object_print(obj, palette, out)?;
+    super::object_print(obj, palette, out)?;
     if let Shape::Sphere(sphere) = obj.shape() {
         print::vector(out, Attr::Center, sphere.center, palette.scale)?;
         print::numbers(out, Attr::Radius, &[sphere.radius], palette.scale)?;

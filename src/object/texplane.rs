@@ -3,15 +3,17 @@
 
 use super::{
     Hit, Object, ObjectVTable, Palette, Shape, object_ambient, object_diffuse, object_material,
-    object_print, object_specular,
+    object_specular,
 };
-use crate::error::{Attr, Entity, ErrorKind};
+use crate::error::{Entity, ErrorKind};
 use crate::material::MaterialId;
 use crate::object::fplane::{Rect, RectDef};
+#[cfg(feature = "print")]
 use crate::print;
 use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;
+#[cfg(feature = "print")]
 use core::fmt;
 
 /// How a texture is laid on its rectangle (`mode` in the scene).
@@ -72,6 +74,7 @@ impl<S: Scalar> TexPlane<S> {
     pub const VTABLE: ObjectVTable<S> = ObjectVTable {
         kind: Entity::TexPlane,
         hits: texplane_hits,
+        #[cfg(feature = "print")]
         printer: texplane_print,
         material: object_material,
         ambient: texplane_ambient,
@@ -131,20 +134,26 @@ pub fn texplane_diffuse<S: Scalar>(
 }
 
 /// `printer` of a textured plane.
+#[cfg(feature = "print")]
 pub fn texplane_print<S: Scalar>(
     obj: &Object<S>,
     palette: &Palette<'_, S>,
     out: &mut dyn fmt::Write,
 ) -> fmt::Result {
-    object_print(obj, palette, out)?;
+    super::object_print(obj, palette, out)?;
     if let Shape::TexPlane(textured) = obj.shape() {
         textured.rect.print_attributes(out, palette.scale)?;
         let name = palette
             .textures
             .get(usize::from(textured.texture))
             .map_or("", |t| t.name());
-        print::word(out, Attr::Texname, name)?;
-        writeln!(out, "  {} {}", Attr::Mode, textured.mode as u8)?;
+        print::word(out, crate::error::Attr::Texname, name)?;
+        writeln!(
+            out,
+            "  {} {}",
+            crate::error::Attr::Mode,
+            textured.mode as u8
+        )?;
     }
     print::footer(out)
 }

@@ -1,15 +1,14 @@
 //! The tiled plane: an infinite checkerboard of two materials.
 
-use super::{
-    Hit, Object, ObjectVTable, Palette, Shape, object_ambient, object_diffuse, object_print,
-    object_specular,
-};
-use crate::error::{Attr, Entity, ErrorKind};
+use super::{Hit, Object, ObjectVTable, Shape, object_ambient, object_diffuse, object_specular};
+use crate::error::{Entity, ErrorKind};
 use crate::material::MaterialId;
 use crate::object::fplane::{Rect, RectDef};
+#[cfg(feature = "print")]
 use crate::print;
 use crate::ray::Ray;
 use crate::scalar::Scalar;
+#[cfg(feature = "print")]
 use core::fmt;
 
 /// The course's offset that keeps tile indices positive; it changes the parity for some tile
@@ -72,6 +71,7 @@ impl<S: Scalar> TiledPlane<S> {
     pub const VTABLE: ObjectVTable<S> = ObjectVTable {
         kind: Entity::TiledPlane,
         hits: tiled_plane_hits,
+        #[cfg(feature = "print")]
         printer: tiled_plane_print,
         material: tiled_plane_material,
         ambient: object_ambient,
@@ -114,17 +114,28 @@ pub fn tiled_plane_material<S: Scalar>(obj: &Object<S>, hit: &Hit<S>) -> Materia
 }
 
 /// `printer` of a tiled plane.
+#[cfg(feature = "print")]
 pub fn tiled_plane_print<S: Scalar>(
     obj: &Object<S>,
-    palette: &Palette<'_, S>,
+    palette: &super::Palette<'_, S>,
     out: &mut dyn fmt::Write,
 ) -> fmt::Result {
-    object_print(obj, palette, out)?;
+    super::object_print(obj, palette, out)?;
     if let Shape::TiledPlane(tiled) = obj.shape() {
         tiled.rect.plane.print_attributes(out, palette.scale)?;
-        print::vector(out, Attr::Xdir, tiled.rect.xdir, 1.0)?;
-        print::numbers(out, Attr::Dimensions, &tiled.written_dimensions, 1.0)?;
-        print::material_ref(out, Attr::Altmaterial, palette, tiled.altmaterial)?;
+        print::vector(out, crate::error::Attr::Xdir, tiled.rect.xdir, 1.0)?;
+        print::numbers(
+            out,
+            crate::error::Attr::Dimensions,
+            &tiled.written_dimensions,
+            1.0,
+        )?;
+        print::material_ref(
+            out,
+            crate::error::Attr::Altmaterial,
+            palette,
+            tiled.altmaterial,
+        )?;
     }
     print::footer(out)
 }
@@ -147,7 +158,7 @@ mod tests {
         let obj: Object<f64> = tiled_plane_init("t", 0, &def, 1, 1.0).unwrap();
         let mats = materials();
         let cam = camera();
-        let palette = Palette {
+        let palette = super::super::Palette {
             materials: &mats,
             textures: &[],
             camera: &cam,

@@ -1,8 +1,8 @@
 //! Tokens and blocks: nom parsers for blanks, comments and tokens, and one loop over blocks.
 
-use super::number::{NumberError, parse_number};
-use super::{Values, attributes_of, values_of};
+use super::{Values, values_of};
 use crate::camera::CameraDef;
+use crate::decimal::{NumberError, parse_number};
 use crate::error::{Attr, Entity, Error, ErrorKind, Position, Range, Snippet, TextureError};
 use crate::light::LightDef;
 use crate::material::MaterialDef;
@@ -10,7 +10,7 @@ use crate::name::{NAME_CAPACITY, PATH_CAPACITY};
 use crate::object::{ObjectDef, PlaneDef, RectDef, ShapeDef, SphereDef, TextureMode};
 use crate::range::Extent;
 use crate::scalar::Scalar;
-use crate::scene::Scene;
+use crate::scene::{Item, Scene};
 use crate::texture::TextureDef;
 use nom::branch::alt;
 use nom::bytes::complete::{tag, take_till, take_till1, take_while1};
@@ -201,21 +201,11 @@ const fn is_object(entity: Entity) -> bool {
 }
 
 fn is_keyword(token: Tok<'_>) -> bool {
-    let attributes = Entity::ALL.iter().flat_map(|&e| attributes_of(e).iter());
+    let attributes = Entity::ALL.iter().flat_map(|&e| e.attributes().iter());
     attributes
         .map(|a| a.keyword())
         .chain(Entity::ALL.iter().map(|e| e.keyword()))
         .any(|k| token.is(k.as_bytes()))
-}
-
-/// One definition of a scene file, as written.
-#[derive(Clone, Copy, Debug)]
-pub(crate) enum Item<'i> {
-    Camera(CameraDef<'i>),
-    Material(MaterialDef<'i>),
-    Light(LightDef<'i>),
-    Texture { name: &'i str, filename: &'i str },
-    Object(ObjectDef<'i>),
 }
 
 /// Reads every block of `text` in order and hands its definition to `sink`; errors from
@@ -350,7 +340,8 @@ fn parse_block<'i>(
         if token.is(b"}") {
             return Ok(block);
         }
-        let attr = attributes_of(entity)
+        let attr = entity
+            .attributes()
             .iter()
             .copied()
             .find(|a| token.is(a.keyword().as_bytes()))

@@ -10,7 +10,7 @@
 //! `include_bytes!` slice, the host tracer reads the file (see `microray::host`).
 
 pub(crate) mod grammar;
-pub mod number;
+pub use crate::decimal as number;
 
 use crate::error::{Attr, Entity, Error, TextureError};
 use crate::scalar::Scalar;
@@ -92,19 +92,7 @@ pub fn no_textures<'t>(_filename: &str) -> Result<&'t [u8], TextureError> {
 
 /// The attributes an entity takes, in the order the printer writes them.
 pub const fn attributes_of(entity: Entity) -> &'static [Attr] {
-    use Attr::*;
-    match entity {
-        Entity::Camera => &[Pixeldim, Worlddim, Viewpoint],
-        Entity::Material => &[Ambient, Diffuse, Specular, Shininess, Transparency],
-        Entity::Light => &[Location, Emissivity],
-        Entity::Spotlight => &[Location, Emissivity, Point, Theta],
-        Entity::Plane => &[Material, Normal, Point],
-        Entity::Sphere => &[Material, Center, Radius],
-        Entity::FPlane => &[Material, Normal, Point, Xdir, Dimensions],
-        Entity::TiledPlane => &[Material, Normal, Point, Xdir, Dimensions, Altmaterial],
-        Entity::Texture => &[Filename],
-        Entity::TexPlane => &[Material, Normal, Point, Xdir, Dimensions, Texname, Mode],
-    }
+    entity.attributes()
 }
 
 /// What values an attribute takes.

@@ -271,13 +271,14 @@ impl Scalar for I16F16 {
             None => Self::MAX,
         }
     }
+    #[cfg(feature = "print")]
     fn write_shortest(self, out: &mut dyn fmt::Write) -> fmt::Result {
         // Five decimals always suffice: 10^-5 / 2 is below half a step (2^-17).
         let value = self.to_f64();
         for decimals in 0..=5 {
             let mut text = heapless::String::<24>::new();
             if fmt::write(&mut text, format_args!("{value:.decimals$}")).is_ok() {
-                let back = crate::parse::number::parse_number(text.as_bytes()).map(Self::from_f64);
+                let back = crate::decimal::parse_number(text.as_bytes()).map(Self::from_f64);
                 if back == Ok(self) {
                     return out.write_str(&text);
                 }
@@ -426,7 +427,7 @@ mod tests {
         ] {
             let mut s = std::string::String::new();
             fx(v).write_shortest(&mut s).unwrap();
-            let back = fx(crate::parse::number::parse_number(s.as_bytes()).unwrap());
+            let back = fx(crate::decimal::parse_number(s.as_bytes()).unwrap());
             assert_eq!(back, fx(v), "{v} printed as {s}");
         }
         let mut s = std::string::String::new();

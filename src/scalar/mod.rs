@@ -103,6 +103,7 @@ pub trait Scalar:
         converted.to_f64().is_finite().then_some(converted)
     }
     /// Writes the shortest decimal text that reads back as exactly this value.
+    #[cfg(feature = "print")]
     fn write_shortest(self, out: &mut dyn fmt::Write) -> fmt::Result;
 
     /// The dot product of two vectors.
@@ -184,6 +185,7 @@ impl Scalar for f64 {
     fn from_i32(value: i32) -> Self {
         f64::from(value)
     }
+    #[cfg(feature = "print")]
     fn write_shortest(self, out: &mut dyn fmt::Write) -> fmt::Result {
         write_shortest_float(self, out)
     }
@@ -251,6 +253,7 @@ impl Scalar for f32 {
             (product >> shift) as u8
         }
     }
+    #[cfg(feature = "print")]
     fn write_shortest(self, out: &mut dyn fmt::Write) -> fmt::Result {
         write_shortest_float(self, out)
     }
@@ -357,8 +360,10 @@ pub(crate) fn load3<S: Scalar>(v: [f64; 3], attr: Attr) -> Result<Vec3<S>, Error
 }
 
 /// Counts the bytes a formatting would write, without storing them.
+#[cfg(feature = "print")]
 struct Counter(usize);
 
+#[cfg(feature = "print")]
 impl fmt::Write for Counter {
     fn write_str(&mut self, s: &str) -> fmt::Result {
         self.0 = self.0.saturating_add(s.len());
@@ -370,6 +375,7 @@ impl fmt::Write for Counter {
 ///
 /// `core` formats both `{}` and `{:e}` with the shortest round-trip digits; the plain form is
 /// chosen unless the exponent form is shorter (`1e-7` rather than `0.0000001`).
+#[cfg(feature = "print")]
 pub(crate) fn write_shortest_float<T: fmt::Display + fmt::LowerExp>(
     value: T,
     out: &mut dyn fmt::Write,

@@ -15,6 +15,9 @@ use std::time::{Duration, Instant};
 #[path = "../../firmware/src/static_scene.rs"]
 mod static_scene;
 
+#[path = "../../firmware/src/basic_scene.rs"]
+mod basic_scene;
+
 /// Options of `cargo xtask qemu`.
 #[derive(Default)]
 pub(crate) struct Options {
@@ -26,6 +29,18 @@ pub(crate) struct Options {
     pub(crate) build: Option<String>,
     /// Render each scene twice, with the render plan and without (`SCENE+noplan`).
     pub(crate) compare_plan: bool,
+    /// The minimal firmware: no optional microray feature, the `basic` scene only.
+    pub(crate) minimal: bool,
+}
+
+/// What a firmware build embeds and enables.
+struct Variant<'a> {
+    /// Scenes to embed (`MICRORAY_FW_ONLY`: comma-separated, `none`, or all when empty).
+    only: &'a str,
+    /// `compare` renders each scene with and without the render plan.
+    plan: &'a str,
+    /// Every microray feature (else the minimal build).
+    full: bool,
 }
 
 /// One firmware build: a machine and a number type.
@@ -78,6 +93,8 @@ pub(crate) struct Row {
     pub(crate) vdiv: u64,
     pub(crate) vsqrt: u64,
     pub(crate) stack: u64,
+    /// Flash and static RAM of the build that rendered it.
+    pub(crate) size: Size,
 }
 
 impl Row {
@@ -92,6 +109,7 @@ impl Row {
 }
 
 /// Flash and static RAM of a build, from its ELF sections.
+#[derive(Clone, Copy)]
 pub(crate) struct Size {
     pub(crate) flash: u64,
     pub(crate) ram: u64,
@@ -107,6 +125,7 @@ pub fn run(args: &[String]) -> Result<(), String> {
             "--only" => options.only = rest.next().ok_or("--only takes SCENE[,SCENE...]")?.clone(),
             "--profile" => options.profile = true,
             "--compare-plan" => options.compare_plan = true,
+            "--minimal" => options.minimal = true,
             "--build" => {
                 options.build = Some(rest.next().ok_or("--build takes MACHINE-NUMBER")?.clone())
             }
@@ -118,8 +137,27 @@ pub fn run(args: &[String]) -> Result<(), String> {
         .and_then(|(w, h)| Some((w.parse::<u16>().ok()?, h.parse::<u16>().ok()?)))
         .ok_or("--size takes WIDTHxHEIGHT")?;
     let root = root()?;
-    let measurement = measure(&root, width, height, &options)?;
-    let mut table = table(&measurement.rows, &measurement.sizes, width, height);
+    let mut measurement = measure(&root, width, height, &options)?;
+    if options.build.is_none() && !options.minimal && !options.compare_plan {
+        // The minimal firmware renders its one scene identically too.
+        let minimal = measure(
+            &root,
+            width,
+            height,
+            &Options {
+                only: "none".into(),
+                minimal: true,
+                ..Options::default()
+            },
+        )?;
+        for row in minimal.rows {
+            measurement.rows.push(Row {
+                scene: format!("{} (minimal build)", row.scene),
+                ..row
+            });
+        }
+    }
+    let mut table = table(&measurement.rows, width, height);
     let complete = options.only.is_empty()
         && options.build.is_none()
         && !options.compare_plan
@@ -150,7 +188,6 @@ pub(crate) fn root() -> Result<PathBuf, String> {
 /// Frames and builds measured in QEMU.
 pub(crate) struct Measurement {
     pub(crate) rows: Vec<Row>,
-    pub(crate) sizes: BTreeMap<(&'static str, &'static str), Size>,
 }
 
 impl Measurement {
@@ -193,7 +230,6 @@ pub(crate) fn measure(
     let plugin = build_plugin(root)?;
     let scenes = scene_files(root, conformance.as_deref());
     let mut rows = Vec::new();
-    let mut sizes = BTreeMap::new();
     for build in &BUILDS {
         let name = format!("{}-{}", build.machine, build.number);
         if options
@@ -203,17 +239,13 @@ pub(crate) fn measure(
         {
             continue;
         }
-        let plan = if options.compare_plan { "compare" } else { "" };
-        let elf = build_firmware(
-            root,
-            build,
-            conformance.as_deref(),
-            &size,
-            &options.only,
-            plan,
-        )?;
+        let variant = Variant {
+            only: &options.only,
+            plan: if options.compare_plan { "compare" } else { "" },
+            full: !options.minimal,
+        };
+        let elf = build_firmware(root, build, conformance.as_deref(), &size, &variant)?;
         let (markers, size) = inspect(&elf)?;
-        sizes.insert((build.machine, build.number), size);
         let out = root.join("target/qemu").join(&name);
         let _ = std::fs::remove_dir_all(&out);
         std::fs::create_dir_all(&out).map_err(|e| e.to_string())?;
@@ -229,11 +261,10 @@ pub(crate) fn measure(
             }
         }
         eprintln!("{name}: ran in {:.1} s", started.elapsed().as_secs_f64());
-        rows.extend(compare(
-            build, &console, &log, &out, &scenes, width, height,
-        )?);
+        let frames = compare(build, &console, &log, &out, &scenes, width, height)?;
+        rows.extend(frames.into_iter().map(|r| Row { size, ..r }));
     }
-    Ok(Measurement { rows, sizes })
+    Ok(Measurement { rows })
 }
 
 fn which(program: &str) -> Option<PathBuf> {
@@ -304,10 +335,10 @@ fn build_firmware(
     build: &Build,
     conformance: Option<&Path>,
     size: &str,
-    only: &str,
-    plan: &str,
+    variant: &Variant<'_>,
 ) -> Result<PathBuf, String> {
     let features = format!("{},{}", build.feature, build.number);
+    let (only, plan) = (variant.only, variant.plan);
     let dir = root.join("firmware");
     let conformance = conformance
         .map(|p| p.display().to_string())
@@ -320,26 +351,29 @@ fn build_firmware(
     if !conformance.is_empty() {
         envs.push(("MICRORAY_CONFORMANCE", conformance.as_str()));
     }
-    cargo(
-        &[
-            "build",
-            "--release",
-            "--target",
-            build.target,
-            "--features",
-            &features,
-        ],
-        &dir,
-        &envs,
-    )?;
+    let mut args = vec![
+        "build",
+        "--release",
+        "--target",
+        build.target,
+        "--features",
+        &features,
+    ];
+    if !variant.full {
+        args.push("--no-default-features");
+    }
+    cargo(&args, &dir, &envs)?;
     // One artefact per target: copy it before the next build of the same target replaces it.
     let elf = dir
         .join("target")
         .join(build.target)
         .join("release/microray-firmware");
-    let copy = root
-        .join("target/qemu")
-        .join(format!("firmware-{}-{}.elf", build.machine, build.number));
+    let copy = root.join("target/qemu").join(format!(
+        "firmware-{}-{}{}.elf",
+        build.machine,
+        build.number,
+        if variant.full { "" } else { "-minimal" }
+    ));
     std::fs::create_dir_all(root.join("target/qemu")).map_err(|e| e.to_string())?;
     std::fs::copy(&elf, &copy).map_err(|e| format!("{}: {e}", elf.display()))?;
     Ok(copy)
@@ -437,10 +471,17 @@ fn run_qemu(
     Ok((console, log))
 }
 
+/// A scene the firmware renders: a file, or one written in source.
+enum Source<'a> {
+    File(&'a Path),
+    Static,
+    Basic,
+}
+
 /// The host's render of a scene at the firmware's size, in `S`.
-fn host_render<S: Scalar>(path: Option<&Path>, width: u16, height: u16) -> Result<Vec<u8>, String> {
-    let mut scene: HostScene<'static, S> = match path {
-        Some(path) => {
+fn host_render<S: Scalar>(source: &Source<'_>, width: u16, height: u16) -> Result<Vec<u8>, String> {
+    let mut scene: HostScene<'static, S> = match source {
+        Source::File(path) => {
             let text = std::fs::read(path).map_err(|e| e.to_string())?;
             parse_scene(
                 &text,
@@ -448,12 +489,20 @@ fn host_render<S: Scalar>(path: Option<&Path>, width: u16, height: u16) -> Resul
             )
             .map_err(|e| format!("{}: {e}", path.display()))?
         }
-        None => microray::Scene::from_defs(
+        Source::Static => microray::Scene::from_defs(
             &static_scene::CAMERA,
             &static_scene::MATERIALS,
             &static_scene::TEXTURES,
             &static_scene::LIGHTS,
             &static_scene::OBJECTS,
+        )
+        .map_err(|e| e.to_string())?,
+        Source::Basic => microray::Scene::from_defs(
+            &basic_scene::CAMERA,
+            &basic_scene::MATERIALS,
+            &[],
+            &basic_scene::LIGHTS,
+            &basic_scene::OBJECTS,
         )
         .map_err(|e| e.to_string())?,
     };
@@ -513,17 +562,20 @@ fn compare(
             std::fs::read(out.join(format!("{name}.rgb"))).map_err(|e| format!("{name}: {e}"))?;
         // The frame without the plan must equal the host's render with it.
         let scene = name.strip_suffix("+noplan").unwrap_or(&name);
-        let path = if scene == static_scene::NAME {
-            None
+        let source = if scene == static_scene::NAME {
+            Source::Static
+        } else if scene == basic_scene::NAME {
+            Source::Basic
         } else {
-            scenes.get(scene).map(PathBuf::as_path)
+            Source::File(
+                scenes
+                    .get(scene)
+                    .ok_or(format!("{name}: no such scene on the host"))?,
+            )
         };
-        if scene != static_scene::NAME && path.is_none() {
-            return Err(format!("{name}: no such scene on the host"));
-        }
         let host = match build.number {
-            "f32" => host_render::<f32>(path, width, height),
-            _ => host_render::<I16F16>(path, width, height),
+            "f32" => host_render::<f32>(&source, width, height),
+            _ => host_render::<I16F16>(&source, width, height),
         };
         let identical = host.map(|h| h == dump);
         rows.push(Row {
@@ -535,46 +587,55 @@ fn compare(
             vdiv,
             vsqrt,
             stack,
+            size: Size { flash: 0, ram: 0 },
         });
     }
     Ok(rows)
 }
 
-/// Flash of the parts: the renderer with a scene written in source (no parser linked), and
-/// the same with the parser and one course scene file (spec0) added.
+/// Flash of the parts: the minimal build (no optional feature, the `basic` scene in source),
+/// the full build with the scenes written in source (no parser linked), and the full build
+/// with the parser and one course scene file (spec0).
 fn flash_by_part(root: &Path, conformance: Option<&Path>, size: &str) -> Result<String, String> {
     let spec0 = scene_files(root, conformance)
         .get("spec0")
         .and_then(|p| std::fs::metadata(p).ok())
         .map_or(0, |m| m.len());
     let mut out = String::from(
-        "\n## Flash by part\n\nThe renderer alone (a scene written in Rust source, no parser \
-         linked), and with the parser and one scene file (spec0, {spec0} bytes of text) added; \
-         the parser's cost is the difference less the text. Bytes of `.vector_table + .text + \
-         .rodata + .data`, release builds with LTO.\n\n\
-         | machine | number | renderer + scene in source | + parser + spec0.txt | parser |\n|---|---|---|---|---|\n",
+        "\n## Flash by part\n\n\
+         - minimal: `--no-default-features`, no optional microray feature: planes and spheres, \
+         point lights, ambient and diffuse light, the `basic` scene in Rust source, no parser;\n\
+         - full, scenes in source: every feature, the `static` scene (tiled plane, texture, \
+         spotlight, glints) and `basic` in source, no parser linked;\n\
+         - full + parser + spec0: the same with the parser and one scene file (spec0, {spec0} \
+         bytes of text); the parser's cost is the difference less the text.\n\n\
+         Bytes of `.vector_table + .text + .rodata + .data`, release builds with LTO.\n\n\
+         | machine | number | minimal | full, scenes in source | full + parser + spec0.txt | parser | minimal / full |\n\
+         |---|---|---|---|---|---|---|\n",
     )
     .replace("{spec0}", &spec0.to_string());
     for build in BUILDS.iter().filter(|b| {
         (b.machine, b.number) == ("mps2-an386", "f32")
             || (b.machine, b.number) == ("microbit", "fixed")
     }) {
-        let source_only = inspect(&build_firmware(root, build, conformance, size, "none", "")?)?
-            .1
-            .flash;
-        let with_parser = inspect(&build_firmware(
-            root,
-            build,
-            conformance,
-            size,
-            "spec0",
-            "",
-        )?)?
-        .1
-        .flash;
+        let flash = |only: &str, full: bool| -> Result<u64, String> {
+            let variant = Variant {
+                only,
+                plan: "",
+                full,
+            };
+            Ok(
+                inspect(&build_firmware(root, build, conformance, size, &variant)?)?
+                    .1
+                    .flash,
+            )
+        };
+        let minimal = flash("none", false)?;
+        let source_only = flash("none", true)?;
+        let with_parser = flash("spec0", true)?;
         let _ = writeln!(
             out,
-            "| {} | {} | {source_only} | {with_parser} | {} |",
+            "| {} | {} | {minimal} | {source_only} | {with_parser} | {} | {:.2} |",
             build.machine,
             if build.number == "fixed" {
                 "i16f16"
@@ -583,13 +644,14 @@ fn flash_by_part(root: &Path, conformance: Option<&Path>, size: &str) -> Result<
             },
             with_parser
                 .saturating_sub(source_only)
-                .saturating_sub(spec0)
+                .saturating_sub(spec0),
+            minimal as f64 / with_parser as f64
         );
     }
     Ok(out)
 }
 
-fn table(rows: &[Row], sizes: &BTreeMap<(&str, &str), Size>, width: u16, height: u16) -> String {
+fn table(rows: &[Row], width: u16, height: u16) -> String {
     let pixels = f64::from(width) * f64::from(height);
     let mut out = String::new();
     let _ = writeln!(
@@ -609,7 +671,6 @@ fn table(rows: &[Row], sizes: &BTreeMap<(&str, &str), Size>, width: u16, height:
     );
     let _ = writeln!(out, "|---|---|---|---|---|---|---|---|---|---|---|");
     for r in rows {
-        let size = sizes.get(&(r.machine, r.number));
         let identical = match &r.identical {
             Ok(true) => "yes".to_string(),
             Ok(false) => "NO".to_string(),
@@ -626,8 +687,8 @@ fn table(rows: &[Row], sizes: &BTreeMap<(&str, &str), Size>, width: u16, height:
             r.insns as f64 / pixels,
             r.vdiv as f64 / pixels,
             r.vsqrt as f64 / pixels,
-            size.map_or(0, |s| s.flash),
-            size.map_or(0, |s| s.ram),
+            r.size.flash,
+            r.size.ram,
             r.stack
         );
     }

@@ -28,16 +28,28 @@
 //! ## Features
 //! | feature | default | what it adds |
 //! |---|---|---|
-//! | `std` | yes | the `microray` command-line tracer, file-based texture loading and an RGB framebuffer writing PPM/PNG ([`host`]) |
+//! | `std` | yes | the `microray` command-line tracer, file-based texture loading and an RGB framebuffer writing PPM/PNG (`host`); implies `full` |
+//! | `full` | yes | all of the below |
+//! | `parser` | in `full` | the scene-file parser (`parse`); without it, scenes are built from `*Def` values in Rust source |
+//! | `print` | in `full` | scene text out (`print`, each object's `printer`) |
+//! | `fplane`, `tiled-plane` | in `full` | the finite and the tiled plane |
+//! | `texture` | in `full` | textures and the textured plane |
+//! | `spotlight` | in `full` | spotlights |
+//! | `reflection`, `transparency`, `glint` | in `full` | mirror rays (`specular`), transmission and filtered shadows (`transparency`), Blinn-Phong glints (`shininess`; needs `reflection`) |
 //! | `sdl` | no | `examples/simulator.rs` opens an SDL window |
 //!
 //! Without default features the crate is `#![no_std]`, has no `alloc`, and builds for
-//! `thumbv6m-none-eabi`, `thumbv7em-none-eabihf` and `riscv32imc-unknown-none-elf`.
+//! `thumbv6m-none-eabi`, `thumbv7em-none-eabihf` and `riscv32imc-unknown-none-elf`. What is
+//! always there: planes, spheres, point lights, ambient and diffuse light, the render plan. A
+//! scene that needs a feature the build left out fails to load with
+//! [`ErrorKind::NotCompiledIn`], which names the feature (and, from the parser, the line and
+//! column that asks for it).
 //!
 //! ## Layout
 //! One concept per module: [`scalar`], [`vec3`], [`ray`], [`camera`], [`material`], [`light`],
-//! [`texture`], [`object`] (one file per kind), [`scene`], [`parse`], [`print`](mod@print), [`shade`]
-//! (the course's illumination), [`render`] (rows into a `DrawTarget`), [`error`].
+//! [`texture`], [`object`] (one file per kind), [`scene`], `parse`, `print`, [`plan`] (what a
+//! scene needs, per-row object lists), [`shade`] (the course's illumination), [`render`] (rows
+//! into a `DrawTarget`), [`error`].
 #![cfg_attr(not(feature = "std"), no_std)]
 #![deny(unsafe_code)]
 #![deny(missing_docs)]

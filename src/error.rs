@@ -563,6 +563,13 @@ pub enum ErrorKind {
         /// The number type's name.
         number_type: &'static str,
     },
+    /// Neighbouring pixels' rays differ in direction by less than the number type can hold
+    /// (a tiny `worlddim` spread over many pixels, seen from afar): rows or columns would
+    /// merge.
+    PixelsTooFine {
+        /// The number type's name.
+        number_type: &'static str,
+    },
     /// A number beyond the range of `f64`.
     NumberTooLarge {
         /// The text.
@@ -694,6 +701,7 @@ impl ErrorKind {
             | ErrorKind::UndefinedMaterial { attr, .. }
             | ErrorKind::OutOfRange { attr, .. } => Some(attr),
             ErrorKind::PixeldimTooSmall
+            | ErrorKind::PixelsTooFine { .. }
             | ErrorKind::ImageTooWide { .. }
             | ErrorKind::ImageTooTall { .. } => Some(Attr::Pixeldim),
             ErrorKind::XdirParallelToNormal => Some(Attr::Xdir),
@@ -784,6 +792,11 @@ impl fmt::Display for ErrorKind {
             ErrorKind::TooSmallForType { attr, number_type } => write!(
                 f,
                 "`{attr}` is too small for {number_type}, the number type of this build (below its resolution once the scene is scaled to its range)"
+            ),
+            ErrorKind::PixelsTooFine { number_type } => write!(
+                f,
+                "neighbouring pixels are closer in direction than {number_type} can tell apart (at least {} steps of its resolution are needed: use fewer pixels or a larger `worlddim`)",
+                crate::camera::MIN_PIXEL_STEPS
             ),
             ErrorKind::NumberTooLarge { found } => {
                 write!(f, "{found} is out of range (beyond ±1.8e308)")

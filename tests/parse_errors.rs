@@ -588,3 +588,33 @@ fn values_beyond_the_number_type() {
     );
     assert!(parse_scene::<f64, 32, 16, 8, 16, 1024>(wide.as_bytes(), no_textures).is_ok());
 }
+
+#[test]
+fn pixels_closer_than_the_type_resolves() {
+    // A window 0.006 high over 120 rows, 6 away: neighbouring rows 8e-6 radians apart.
+    let text = "camera c { pixeldim 160 120 worlddim 8 0.006 viewpoint 4 0.001 6 }\n\
+                material m { diffuse 1 1 1 }\nplane p { material m normal 0 1 0 point 0 0 0 }";
+    let e =
+        parse_scene::<microray::scalar::I16F16, 32, 16, 8, 16, 1024>(text.as_bytes(), no_textures)
+            .unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "1:12: neighbouring pixels are closer in direction than i16f16 can tell apart (at least 16 steps of its resolution are needed: use fewer pixels or a larger `worlddim`)"
+    );
+    // f32 resolves 2^-23: the same camera is fine.
+    assert!(parse_scene::<f32, 32, 16, 8, 16, 1024>(text.as_bytes(), no_textures).is_ok());
+    // Fewer rows are far enough apart for Q16.16 too, and a later resolution change is
+    // checked the same way.
+    let coarse = text.replace("pixeldim 160 120", "pixeldim 160 2");
+    let mut scene = parse_scene::<microray::scalar::I16F16, 32, 16, 8, 16, 1024>(
+        coarse.as_bytes(),
+        no_textures,
+    )
+    .unwrap();
+    assert_eq!(
+        scene.set_resolution(160, 120),
+        Err(microray::ErrorKind::PixelsTooFine {
+            number_type: "i16f16"
+        })
+    );
+}

@@ -202,6 +202,7 @@ impl Scalar for I16F16 {
     const MIN_NORMAL: f64 = 1.0 / 65536.0;
     // 256 steps of 2^-16.
     const MIN_FEATURE: f64 = 1.0 / 256.0;
+    const UNIT_STEP: f64 = 1.0 / 65536.0;
 
     #[inline]
     fn from_f64(value: f64) -> Self {

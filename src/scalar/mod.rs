@@ -62,6 +62,9 @@ pub trait Scalar:
     /// The smallest length (radius, rectangle side, world window) the type resolves well;
     /// a scene with a smaller one, after scaling, is rejected for this type.
     const MIN_FEATURE: f64;
+    /// The spacing of the type's values just below 1, where the components of unit vectors
+    /// lie: the finest difference in direction the type can hold (`2^-52`, `2^-23`, `2^-16`).
+    const UNIT_STEP: f64;
 
     /// The nearest value of this type (saturating where the type's range ends).
     fn from_f64(value: f64) -> Self;
@@ -155,6 +158,7 @@ impl Scalar for f64 {
     const MIN_NORMAL: f64 = f64::MIN_POSITIVE;
     // Squares of smaller lengths would leave the normal range.
     const MIN_FEATURE: f64 = 1e-150;
+    const UNIT_STEP: f64 = f64::EPSILON;
 
     #[inline]
     fn from_f64(value: f64) -> Self {
@@ -202,6 +206,7 @@ impl Scalar for f32 {
     const MIN_NORMAL: f64 = f32::MIN_POSITIVE as f64;
     // Squares of smaller lengths would leave the normal range.
     const MIN_FEATURE: f64 = 1e-18;
+    const UNIT_STEP: f64 = f32::EPSILON as f64;
 
     #[inline]
     fn from_f64(value: f64) -> Self {

@@ -243,10 +243,11 @@ pub fn object_specular<S: Scalar>(obj: &Object<S>, palette: &Palette<'_, S>, hit
         .map_or(S::ZERO, |m| m.specular)
 }
 
-/// A hit at `t` if it is ahead of the ray (`t > 0`).
+/// A hit at `t` if it is ahead of the ray (`t > 0`) and within the type's range (a `t`
+/// that overflowed to infinity or saturated is no place on the ray).
 #[inline]
 pub(crate) fn ahead<S: Scalar>(ray: &Ray<S>, t: S, normal: Vec3<S>) -> Option<Hit<S>> {
-    (t > S::ZERO).then(|| Hit {
+    (t > S::ZERO && !t.is_beyond_range()).then(|| Hit {
         t,
         point: ray.at(t),
         normal,

@@ -204,6 +204,14 @@ impl Scalar for I16F16 {
     const MIN_FEATURE: f64 = 1.0 / 256.0;
     const UNIT_STEP: f64 = 1.0 / 65536.0;
 
+    /// Saturated at either end: every operation saturates instead of wrapping, so a result
+    /// at the ends of the range may stand for a larger one. (Distances within a scene of
+    /// extent [`Self::MAX_EXTENT`] stay below 28378, clear of the ends.)
+    #[inline]
+    fn is_beyond_range(self) -> bool {
+        self == Self::MAX || self == Self::MIN
+    }
+
     #[inline]
     fn from_f64(value: f64) -> Self {
         // The crate panics on NaN; NaN never reaches here from a scene, but must not panic.

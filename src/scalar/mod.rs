@@ -130,6 +130,14 @@ pub trait Scalar:
         Self::ONE / self
     }
 
+    /// Whether the value stands for something beyond the type's range: infinite or NaN for
+    /// the float types, saturated for fixed point. A ray parameter like that is no hit.
+    #[inline]
+    fn is_beyond_range(self) -> bool {
+        // inf - inf and NaN - NaN are NaN, which is not equal to zero.
+        self - self != Self::ZERO
+    }
+
     /// The absolute value.
     #[inline]
     fn abs(self) -> Self {

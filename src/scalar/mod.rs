@@ -134,8 +134,7 @@ pub trait Scalar:
     /// the float types, saturated for fixed point. A ray parameter like that is no hit.
     #[inline]
     fn is_beyond_range(self) -> bool {
-        // inf - inf and NaN - NaN are NaN, which is not equal to zero.
-        self - self != Self::ZERO
+        !self.to_f64().is_finite()
     }
 
     /// The absolute value.

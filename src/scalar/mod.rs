@@ -200,6 +200,11 @@ impl Scalar for f64 {
     fn write_shortest(self, out: &mut dyn fmt::Write) -> fmt::Result {
         write_shortest_float(self, out)
     }
+    /// A bit test on the type itself: no conversion to `f64` (software on a Cortex-M4F).
+    #[inline]
+    fn is_beyond_range(self) -> bool {
+        !self.is_finite()
+    }
 }
 
 impl Scalar for f32 {
@@ -268,6 +273,11 @@ impl Scalar for f32 {
     #[cfg(feature = "print")]
     fn write_shortest(self, out: &mut dyn fmt::Write) -> fmt::Result {
         write_shortest_float(self, out)
+    }
+    /// A bit test on the type itself: no conversion to `f64` (software on a Cortex-M4F).
+    #[inline]
+    fn is_beyond_range(self) -> bool {
+        !self.is_finite()
     }
 }
 

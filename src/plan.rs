@@ -113,19 +113,6 @@ pub struct Plan<const OBJECTS: usize> {
 }
 
 impl<const OBJECTS: usize> Plan<OBJECTS> {
-    /// No plan: every stage, every object, every row.
-    pub fn everything<S: Scalar>(objects: &[Object<S>]) -> Self {
-        let mut plan = Self {
-            stages: Stages::ALL,
-            kept: Vec::new(),
-            spans: Vec::new(),
-        };
-        for index in 0..objects.len() {
-            plan.keep(index, RowSpan::ALL);
-        }
-        plan
-    }
-
     /// The plan for a scene's parts.
     pub fn new<S: Scalar>(
         camera: &Camera<S>,

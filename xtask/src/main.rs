@@ -10,6 +10,7 @@
 //! - `cargo xtask bench [--quick]`: run time against error (`docs/benchmarks.md`).
 
 mod bench;
+mod profile;
 mod qemu;
 
 use std::process::ExitCode;

@@ -1,5 +1,6 @@
 //! `cargo xtask qemu`: the firmware on emulated microcontrollers against the host.
 
+use crate::profile;
 use microray::Scalar;
 use microray::host::{Framebuffer, HostScene, texture_files};
 use microray::parse::parse_scene;
@@ -23,8 +24,9 @@ mod basic_scene;
 pub(crate) struct Options {
     /// Only these scenes (comma-separated); all when empty.
     pub(crate) only: String,
-    /// Count instructions by function as well.
-    pub(crate) profile: bool,
+    /// Count instructions by function and stage as well, and write the report to
+    /// `docs/profile-LABEL.md` (`--profile LABEL`).
+    pub(crate) profile: Option<String>,
     /// Only the builds whose name starts with this (`mps2-an386-f32`, `microbit`, ...).
     pub(crate) build: Option<String>,
     /// Render each scene twice, with the render plan and without (`SCENE+noplan`).
@@ -123,7 +125,9 @@ pub fn run(args: &[String]) -> Result<(), String> {
         match arg.as_str() {
             "--size" => size = rest.next().ok_or("--size takes WIDTHxHEIGHT")?.clone(),
             "--only" => options.only = rest.next().ok_or("--only takes SCENE[,SCENE...]")?.clone(),
-            "--profile" => options.profile = true,
+            "--profile" => {
+                options.profile = Some(rest.next().ok_or("--profile takes a LABEL")?.clone())
+            }
             "--compare-plan" => options.compare_plan = true,
             "--minimal" => options.minimal = true,
             "--build" => {
@@ -138,7 +142,11 @@ pub fn run(args: &[String]) -> Result<(), String> {
         .ok_or("--size takes WIDTHxHEIGHT")?;
     let root = root()?;
     let mut measurement = measure(&root, width, height, &options)?;
-    if options.build.is_none() && !options.minimal && !options.compare_plan {
+    if options.build.is_none()
+        && !options.minimal
+        && !options.compare_plan
+        && options.profile.is_none()
+    {
         // The minimal firmware renders its one scene identically too.
         let minimal = measure(
             &root,
@@ -160,6 +168,7 @@ pub fn run(args: &[String]) -> Result<(), String> {
     let mut table = table(&measurement.rows, width, height);
     let complete = options.only.is_empty()
         && options.build.is_none()
+        && options.profile.is_none()
         && !options.compare_plan
         && size == "160x120";
     if complete {
@@ -230,6 +239,7 @@ pub(crate) fn measure(
     let plugin = build_plugin(root)?;
     let scenes = scene_files(root, conformance.as_deref());
     let mut rows = Vec::new();
+    let mut profiles = String::new();
     for build in &BUILDS {
         let name = format!("{}-{}", build.machine, build.number);
         if options
@@ -250,19 +260,42 @@ pub(crate) fn measure(
         let _ = std::fs::remove_dir_all(&out);
         std::fs::create_dir_all(&out).map_err(|e| e.to_string())?;
         let started = Instant::now();
-        let (console, log) = run_qemu(build, &elf, &plugin, markers, &out, options.profile)?;
-        if options.profile {
-            println!("## profile: {name} (the whole run, by function)");
-            for line in log
-                .lines()
-                .filter_map(|l| l.strip_prefix("icount profile "))
-            {
-                println!("{line}");
-            }
-        }
+        let profiling = options.profile.is_some();
+        let (console, log) = run_qemu(build, &elf, &plugin, markers, &out, profiling)?;
         eprintln!("{name}: ran in {:.1} s", started.elapsed().as_secs_f64());
         let frames = compare(build, &console, &log, &out, &scenes, width, height)?;
+        if profiling {
+            let counts = profile::frame_counts(&log);
+            let mut symbolizer = profile::Symbolizer::new(&elf)?;
+            let pixels = f64::from(width) * f64::from(height);
+            for (index, row) in frames.iter().enumerate() {
+                let Some(frame) = counts.get(&(index as u64)) else {
+                    continue;
+                };
+                let wanted = options.only.is_empty()
+                    || options.only.split(',').any(|scene| scene == row.scene);
+                if !wanted {
+                    continue;
+                }
+                let title = format!(
+                    "{} on {} in {} ({width}x{height})",
+                    row.scene,
+                    build.machine,
+                    row.number_name()
+                );
+                let report = profile::Profile::of(&mut symbolizer, frame)
+                    .report(&title, pixels, row.vdiv, row.vsqrt);
+                profiles.push_str(&report);
+                profiles.push('\n');
+            }
+        }
         rows.extend(frames.into_iter().map(|r| Row { size, ..r }));
+    }
+    if let Some(label) = &options.profile {
+        println!("{profiles}");
+        let path = root.join("docs").join(format!("profile-{label}.md"));
+        std::fs::write(&path, &profiles).map_err(|e| format!("{}: {e}", path.display()))?;
+        eprintln!("profile written to {}", path.display());
     }
     Ok(Measurement { rows })
 }

@@ -7,8 +7,10 @@
 //! address (never by symbol within a translation block, which would count a marker that
 //! straddles a page twice) and read the counters: `start` takes a snapshot, `stop` adds what
 //! was executed since, `frame` prints `icount frame N insns I vdiv D vsqrt Q` and starts a new
-//! frame. With `profile=on`, the whole run is also counted by function symbol and printed at
-//! exit, most first.
+//! frame. With `profile=on`, every instruction address also has its own counter: `start` and
+//! `stop` read them too, and `frame` prints `icount addr N ADDRESS COUNT` for each address
+//! executed while counting (the instructions of the frame by address, which `cargo xtask qemu
+//! --profile` maps to functions, inlined ones included, and to stages), then `icount frame`.
 //!
 //! The plugin API is C; this is the only `unsafe` code of the project, each call as QEMU's
 //! `qemu-plugin.h` documents it.
@@ -39,7 +41,6 @@ unsafe extern "C" {
     fn qemu_plugin_tb_get_insn(tb: *const Tb, index: usize) -> *mut Insn;
     fn qemu_plugin_insn_vaddr(insn: *const Insn) -> u64;
     fn qemu_plugin_insn_disas(insn: *const Insn) -> *mut c_char;
-    fn qemu_plugin_insn_symbol(insn: *const Insn) -> *const c_char;
     fn qemu_plugin_register_vcpu_insn_exec_inline(
         insn: *mut Insn,
         op: c_int,
@@ -50,11 +51,6 @@ unsafe extern "C" {
         insn: *mut Insn,
         cb: extern "C" fn(u32, *mut c_void),
         flags: c_int,
-        userdata: *mut c_void,
-    );
-    fn qemu_plugin_register_atexit_cb(
-        id: PluginId,
-        cb: extern "C" fn(PluginId, *mut c_void),
         userdata: *mut c_void,
     );
     fn qemu_plugin_outs(string: *const c_char);
@@ -89,8 +85,12 @@ struct State {
     /// What the current frame has executed.
     frame_total: [u64; 3],
     frames: u64,
-    /// Per-symbol counters for the profile (leaked: they live as long as QEMU).
-    symbols: HashMap<String, &'static mut u64>,
+    /// Per-address counters (profile only, leaked: they live as long as QEMU): the
+    /// address, its counter, and the counter's value when counting last started.
+    addresses: Vec<(u64, &'static mut u64, u64)>,
+    index: HashMap<u64, usize>,
+    /// Per-address instructions counted in the frame so far.
+    frame_addresses: HashMap<u64, u64>,
 }
 
 static STATE: Mutex<Option<State>> = Mutex::new(None);
@@ -119,13 +119,35 @@ extern "C" fn on_marker(_vcpu: u32, userdata: *mut c_void) {
     let Ok(mut guard) = STATE.lock() else { return };
     let Some(state) = guard.as_mut() else { return };
     match userdata as usize {
-        MARK_START => state.since = now,
+        MARK_START => {
+            state.since = now;
+            for (_, counter, since) in &mut state.addresses {
+                *since = **counter;
+            }
+        }
         MARK_STOP => {
             for ((total, now), since) in state.frame_total.iter_mut().zip(now).zip(state.since) {
                 *total += now - since;
             }
+            for (address, counter, since) in &mut state.addresses {
+                let executed = **counter - *since;
+                if executed != 0 {
+                    *state.frame_addresses.entry(*address).or_insert(0) += executed;
+                    *since = **counter;
+                }
+            }
         }
         MARK_FRAME => {
+            let mut executed: Vec<(u64, u64)> = state.frame_addresses.drain().collect();
+            executed.sort_unstable();
+            let mut text = String::new();
+            for (address, count) in executed {
+                text.push_str(&format!(
+                    "icount addr {} {address:#x} {count}\n",
+                    state.frames
+                ));
+            }
+            output(&text);
             let [insns, vdiv, vsqrt] = state.frame_total;
             output(&format!(
                 "icount frame {} insns {insns} vdiv {vdiv} vsqrt {vsqrt}\n",
@@ -194,34 +216,26 @@ extern "C" fn on_translate(_id: PluginId, tb: *mut Tb) {
                 );
             }
             if state.profile {
-                let symbol = qemu_plugin_insn_symbol(insn);
-                let name = if symbol.is_null() {
-                    "?".to_string()
-                } else {
-                    CStr::from_ptr(symbol).to_string_lossy().into_owned()
+                let slot = match state.index.get(&address) {
+                    Some(&slot) => slot,
+                    None => {
+                        // A counter that starts when counting may already run: its snapshot
+                        // is 0, so everything it counts belongs to the current window.
+                        state.addresses.push((address, Box::leak(Box::new(0)), 0));
+                        state.index.insert(address, state.addresses.len() - 1);
+                        state.addresses.len() - 1
+                    }
                 };
-                let counter: *mut u64 = &mut **state
-                    .symbols
-                    .entry(name)
-                    .or_insert_with(|| Box::leak(Box::new(0)));
-                qemu_plugin_register_vcpu_insn_exec_inline(insn, INLINE_ADD_U64, counter.cast(), 1);
+                if let Some((_, counter, _)) = state.addresses.get_mut(slot) {
+                    let counter: *mut u64 = &mut **counter;
+                    qemu_plugin_register_vcpu_insn_exec_inline(
+                        insn,
+                        INLINE_ADD_U64,
+                        counter.cast(),
+                        1,
+                    );
+                }
             }
-        }
-    }
-}
-
-extern "C" fn on_exit(_id: PluginId, _userdata: *mut c_void) {
-    let Ok(guard) = STATE.lock() else { return };
-    let Some(state) = guard.as_ref() else { return };
-    if state.profile {
-        let mut rows: Vec<(u64, &String)> = state
-            .symbols
-            .iter()
-            .map(|(name, count)| (**count, name))
-            .collect();
-        rows.sort_by_key(|row| std::cmp::Reverse(row.0));
-        for (count, name) in rows.iter().take(60) {
-            output(&format!("icount profile {count} {name}\n"));
         }
     }
 }
@@ -253,7 +267,9 @@ pub unsafe extern "C" fn qemu_plugin_install(
         since: [0; 3],
         frame_total: [0; 3],
         frames: 0,
-        symbols: HashMap::new(),
+        addresses: Vec::new(),
+        index: HashMap::new(),
+        frame_addresses: HashMap::new(),
     };
     for i in 0..usize::try_from(argc).unwrap_or(0) {
         // SAFETY: as the function's contract says.
@@ -278,7 +294,6 @@ pub unsafe extern "C" fn qemu_plugin_install(
     // SAFETY: registering callbacks with the id QEMU gave us.
     unsafe {
         qemu_plugin_register_vcpu_tb_trans_cb(id, on_translate);
-        qemu_plugin_register_atexit_cb(id, on_exit, std::ptr::null_mut());
     }
     0
 }

@@ -1,0 +1,296 @@
+//! The instruction profile of a frame: the plugin's per-address counts mapped to functions
+//! (the innermost inlined function at each address, from the firmware's DWARF) and to the
+//! stages of the tracer.
+
+use addr2line::gimli;
+use object::{Object, ObjectSection, ObjectSymbol};
+use std::borrow::Cow;
+use std::collections::{BTreeMap, HashMap};
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// The stages a frame's instructions are sorted into, in report order.
+pub(crate) const STAGES: [&str; 14] = [
+    "primary rays",
+    "closest hit: loop",
+    "closest hit: plane",
+    "closest hit: sphere",
+    "closest hit: other kinds",
+    "illumination and surface look-ups",
+    "shadow rays",
+    "trace: recursion, reflection, transparency",
+    "divisions and square roots",
+    "soft float and compiler built-ins",
+    "byte conversion",
+    "row loop and output",
+    "render plan",
+    "other",
+];
+
+/// Maps addresses of one firmware to functions and stages.
+pub(crate) struct Symbolizer {
+    context: addr2line::Context<gimli::EndianSlice<'static, gimli::RunTimeEndian>>,
+    /// ELF symbols by start address, with their sizes: for code without DWARF.
+    symbols: BTreeMap<u64, (u64, String)>,
+    cache: HashMap<u64, Vec<String>>,
+}
+
+impl Symbolizer {
+    pub(crate) fn new(elf: &Path) -> Result<Self, String> {
+        let bytes = std::fs::read(elf).map_err(|e| e.to_string())?;
+        let file = object::File::parse(&*bytes).map_err(|e| e.to_string())?;
+        let endian = if file.is_little_endian() {
+            gimli::RunTimeEndian::Little
+        } else {
+            gimli::RunTimeEndian::Big
+        };
+        let load = |id: gimli::SectionId| -> Result<_, gimli::Error> {
+            let data = file
+                .section_by_name(id.name())
+                .and_then(|s| s.uncompressed_data().ok())
+                .unwrap_or(Cow::Borrowed(&[]));
+            // Leaked: the firmware's sections live as long as the task.
+            let data: &'static [u8] = Box::leak(data.into_owned().into_boxed_slice());
+            Ok(gimli::EndianSlice::new(data, endian))
+        };
+        let dwarf = gimli::Dwarf::load(load).map_err(|e| e.to_string())?;
+        let context = addr2line::Context::from_dwarf(dwarf).map_err(|e| e.to_string())?;
+        let mut symbols = BTreeMap::new();
+        for symbol in file.symbols() {
+            if symbol.kind() == object::SymbolKind::Text {
+                if let Ok(name) = symbol.name() {
+                    let name = addr2line::demangle_auto(Cow::Borrowed(name), None).into_owned();
+                    symbols.insert(symbol.address() & !1, (symbol.size(), name));
+                }
+            }
+        }
+        Ok(Self {
+            context,
+            symbols,
+            cache: HashMap::new(),
+        })
+    }
+
+    /// The functions at `address`, innermost (inlined) first.
+    fn chain(&mut self, address: u64) -> &[String] {
+        if !self.cache.contains_key(&address) {
+            let mut chain = Vec::new();
+            if let Ok(mut frames) = self.context.find_frames(address).skip_all_loads() {
+                while let Ok(Some(frame)) = frames.next() {
+                    if let Some(name) = frame
+                        .function
+                        .and_then(|f| f.demangle().ok().map(Cow::into_owned))
+                    {
+                        chain.push(simplify(&name));
+                    }
+                }
+            }
+            if chain.is_empty() {
+                let symbol = self
+                    .symbols
+                    .range(..=address)
+                    .next_back()
+                    .filter(|(start, (size, _))| address < *start + (*size).max(1))
+                    .map_or_else(|| "?".to_string(), |(_, (_, name))| simplify(name));
+                chain.push(symbol);
+            }
+            self.cache.insert(address, chain);
+        }
+        self.cache.get(&address).map_or(&[], Vec::as_slice)
+    }
+}
+
+/// A demangled name without its hash and the crate paths of generic arguments.
+fn simplify(name: &str) -> String {
+    let name = match name.rfind("::h") {
+        Some(i) if name[i + 3..].chars().all(|c| c.is_ascii_hexdigit()) => &name[..i],
+        _ => name,
+    };
+    name.replace("microray::", "")
+        .replace("core::ops::arith::", "")
+        .replace("scalar::fixed::", "")
+        .replace("core::", "")
+}
+
+/// The stage an address belongs to, from its chain of functions (innermost first).
+fn stage(chain: &[String]) -> &'static str {
+    let any = |patterns: &[&str]| {
+        chain
+            .iter()
+            .any(|name| patterns.iter().any(|p| name.contains(p)))
+    };
+    let innermost = chain.first().map_or("", String::as_str);
+    let primitive = |patterns: &[&str]| {
+        chain
+            .iter()
+            .take(3)
+            .any(|name| patterns.iter().any(|p| name.contains(p)))
+    };
+    if innermost.starts_with("__") || innermost.contains("compiler_builtins") {
+        return "soft float and compiler built-ins";
+    }
+    if primitive(&[
+        "::sqrt",
+        "sqrtf",
+        "isqrt",
+        "Div>::div",
+        "div_vec",
+        "::recip",
+        "Divisor",
+        "reciprocal",
+        "mul_ratio",
+        "unit_and_length",
+    ]) {
+        return "divisions and square roots";
+    }
+    if any(&["to_byte"]) {
+        return "byte conversion";
+    }
+    if any(&["any_hit", "shadow_filter", "occluded", "shadow"]) {
+        return "shadow rays";
+    }
+    if any(&["plane::", "plane_hits"]) && !any(&["tiled_plane", "texplane", "fplane"]) {
+        return "closest hit: plane";
+    }
+    if any(&["sphere"]) {
+        return "closest hit: sphere";
+    }
+    if any(&[
+        "fplane",
+        "tiled_plane_hits",
+        "texplane_hits",
+        "Rect<S>>::intersect",
+        "bvh",
+    ]) {
+        return "closest hit: other kinds";
+    }
+    if any(&["closest_hit"]) {
+        return "closest hit: loop";
+    }
+    if any(&[
+        "illuminate",
+        "::local",
+        "object_ambient",
+        "object_diffuse",
+        "object_specular",
+        "object_material",
+        "tiled_plane_material",
+        "texel",
+        "texplane_",
+        "shade::",
+    ]) && !any(&["trace"])
+    {
+        return "illumination and surface look-ups";
+    }
+    if any(&["primary_ray", "camera::", "Rays"]) {
+        return "primary rays";
+    }
+    if any(&["trace", "reflect"]) {
+        return "trace: recursion, reflection, transparency";
+    }
+    if any(&["plan::", "objects_in_row", "row_objects"]) {
+        return "render plan";
+    }
+    if any(&[
+        "render",
+        "fill_contiguous",
+        "pixel_among",
+        "RowFile",
+        "microray_count",
+    ]) {
+        return "row loop and output";
+    }
+    "other"
+}
+
+/// One frame's counts by function and by stage.
+pub(crate) struct Profile {
+    pub(crate) by_function: Vec<(String, u64)>,
+    pub(crate) by_stage: Vec<(&'static str, u64)>,
+}
+
+impl Profile {
+    pub(crate) fn of(symbolizer: &mut Symbolizer, counts: &HashMap<u64, u64>) -> Self {
+        let mut functions: HashMap<String, u64> = HashMap::new();
+        let mut stages: HashMap<&'static str, u64> = HashMap::new();
+        for (&address, &count) in counts {
+            let chain = symbolizer.chain(address);
+            let name = chain.first().cloned().unwrap_or_default();
+            *stages.entry(stage(chain)).or_insert(0) += count;
+            *functions.entry(name).or_insert(0) += count;
+        }
+        let mut by_function: Vec<(String, u64)> = functions.into_iter().collect();
+        by_function.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+        let by_stage = STAGES
+            .iter()
+            .map(|s| (*s, stages.get(s).copied().unwrap_or(0)))
+            .collect();
+        Self {
+            by_function,
+            by_stage,
+        }
+    }
+
+    /// The report: stages, then the functions that make up 99 % of the frame.
+    pub(crate) fn report(&self, title: &str, pixels: f64, vdiv: u64, vsqrt: u64) -> String {
+        let total: u64 = self.by_stage.iter().map(|(_, c)| c).sum();
+        let mut out =
+            format!("### {title}\n\n| stage | instructions/pixel | share |\n|---|---|---|\n");
+        for (stage, count) in &self.by_stage {
+            if *count > 0 {
+                let _ = writeln!(
+                    out,
+                    "| {stage} | {:.1} | {:.1} % |",
+                    *count as f64 / pixels,
+                    100.0 * *count as f64 / total.max(1) as f64
+                );
+            }
+        }
+        let _ = writeln!(
+            out,
+            "| **total** | **{:.1}** | VDIV {:.2}/pixel, VSQRT {:.2}/pixel |\n",
+            total as f64 / pixels,
+            vdiv as f64 / pixels,
+            vsqrt as f64 / pixels
+        );
+        out.push_str(
+            "| function (innermost, inlined ones included) | instructions/pixel |\n|---|---|\n",
+        );
+        let mut running = 0;
+        for (name, count) in &self.by_function {
+            if running as f64 > 0.99 * total as f64 {
+                break;
+            }
+            running += count;
+            let _ = writeln!(
+                out,
+                "| `{}` | {:.1} |",
+                name.replace('|', "\\|"),
+                *count as f64 / pixels
+            );
+        }
+        out
+    }
+}
+
+/// The plugin's `icount addr FRAME ADDRESS COUNT` lines, by frame.
+pub(crate) fn frame_counts(log: &str) -> BTreeMap<u64, HashMap<u64, u64>> {
+    let mut frames: BTreeMap<u64, HashMap<u64, u64>> = BTreeMap::new();
+    for line in log.lines() {
+        let mut words = line.split_whitespace();
+        if (words.next(), words.next()) != (Some("icount"), Some("addr")) {
+            continue;
+        }
+        let (Some(frame), Some(address), Some(count)) = (
+            words.next().and_then(|w| w.parse().ok()),
+            words
+                .next()
+                .and_then(|w| u64::from_str_radix(w.trim_start_matches("0x"), 16).ok()),
+            words.next().and_then(|w| w.parse::<u64>().ok()),
+        ) else {
+            continue;
+        };
+        *frames.entry(frame).or_default().entry(address).or_insert(0) += count;
+    }
+    frames
+}

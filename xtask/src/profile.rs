@@ -57,11 +57,9 @@ impl Symbolizer {
         let context = addr2line::Context::from_dwarf(dwarf).map_err(|e| e.to_string())?;
         let mut symbols = BTreeMap::new();
         for symbol in file.symbols() {
-            if symbol.kind() == object::SymbolKind::Text {
-                if let Ok(name) = symbol.name() {
-                    let name = addr2line::demangle_auto(Cow::Borrowed(name), None).into_owned();
-                    symbols.insert(symbol.address() & !1, (symbol.size(), name));
-                }
+            if let (object::SymbolKind::Text, Ok(name)) = (symbol.kind(), symbol.name()) {
+                let name = addr2line::demangle_auto(Cow::Borrowed(name), None).into_owned();
+                symbols.insert(symbol.address() & !1, (symbol.size(), name));
             }
         }
         Ok(Self {

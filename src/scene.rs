@@ -404,7 +404,7 @@ mod tests {
             scene.closest_hit(&down(20.0), None).map(|(i, _)| i),
             Some(1)
         );
-        assert!(scene.objects()[2].hits(&down(20.0)).is_some());
+        assert!(scene.objects()[2].hit(&down(20.0)).is_some());
     }
 
     #[test]

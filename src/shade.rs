@@ -19,8 +19,9 @@
 //! are not part of every recursive frame.
 
 use crate::light::Light;
-use crate::material::Material;
-use crate::object::{Among, Hit, Object, Palette, Z_LIMIT, any_hit_among, closest_hit_among};
+use crate::object::{
+    Among, Hit, Object, Palette, Surface, Z_LIMIT, any_hit_among, closest_hit_among,
+};
 use crate::plan::Stages;
 use crate::ray::Ray;
 use crate::scalar::Scalar;
@@ -88,7 +89,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
 
     /// [`first_object`](Self::first_object) among the objects of a row's list.
     pub fn first_object_among(&self, ray: &Ray<S>, among: Among<'_>) -> Option<usize> {
-        closest_hit_among(self.objects, among, ray, None, self.z_limit).map(|(index, _)| index)
+        closest_hit_among(self.objects, among, ray, None, S::UNBOUNDED, self.z_limit)
+            .map(|(index, _)| index)
     }
 
     /// The course's `trace`: `total` is the distance travelled so far, `left_from` the object
@@ -108,55 +110,62 @@ impl<'s, S: Scalar> Shader<'s, S> {
         if total > self.max_distance || depth > MAX_DEPTH {
             return Vec3::ZERO;
         }
-        let Some((index, hit)) =
-            closest_hit_among(self.objects, among, ray, left_from, self.z_limit)
-        else {
+        let found = closest_hit_among(
+            self.objects,
+            among,
+            ray,
+            left_from,
+            S::UNBOUNDED,
+            self.z_limit,
+        );
+        let Some((index, t)) = found else {
             return Vec3::ZERO;
         };
         let Some(object) = self.objects.get(index) else {
             return Vec3::ZERO;
         };
+        let hit = object.hit_at(ray, t);
+        let Some(surface) = object.surface(&self.palette, &hit) else {
+            return Vec3::ZERO;
+        };
         let total = total + hit.t;
-        let mut c = self.local(object, index, &hit, ray.base) / total;
+        let mut c = self.local(&surface, index, &hit, ray.base) / total;
+        let material = surface.material;
         // `cfg!`: a build without the feature has no such materials (they fail to load), and
         // the compiler drops the code.
-        if cfg!(feature = "reflection") && self.stages.reflection {
-            let specular = object.specular(&self.palette, &hit);
-            if specular != S::ZERO {
-                let reflected = Ray::new(hit.point, reflect(ray.dir, hit.normal));
-                c = c + self.trace(&reflected, total, Some(index), depth + 1) * specular;
-            }
+        if cfg!(feature = "reflection") && self.stages.reflection && material.specular != S::ZERO {
+            let reflected = Ray::new(hit.point, reflect(ray.dir, hit.normal));
+            c = c + self.trace(&reflected, total, Some(index), depth + 1) * material.specular;
         }
-        if cfg!(feature = "transparency") && self.stages.transparency {
-            if let Some(material) = self.material_at(object, &hit) {
-                let tr = material.transparency;
-                if tr != S::ZERO {
-                    let through = Ray::new(hit.point, ray.dir);
-                    let behind = self.trace(&through, total, Some(index), depth + 1);
-                    c = c * (S::ONE - tr) + material.filter.mul_each(behind);
-                }
-            }
+        if cfg!(feature = "transparency")
+            && self.stages.transparency
+            && material.transparency != S::ZERO
+        {
+            let through = Ray::new(hit.point, ray.dir);
+            let behind = self.trace(&through, total, Some(index), depth + 1);
+            c = c * (S::ONE - material.transparency) + material.filter.mul_each(behind);
         }
         c
     }
 
-    fn material_at(&self, object: &Object<S>, hit: &Hit<S>) -> Option<&'s Material<S>> {
-        self.palette.material(object.material_at(hit))
-    }
-
     /// Ambient plus every light's contribution, before the division by distance.
     #[inline(never)]
-    fn local(&self, object: &Object<S>, index: usize, hit: &Hit<S>, eye: Vec3<S>) -> Vec3<S> {
-        let mut c = object.ambient(&self.palette, hit);
+    fn local(&self, surface: &Surface<'_, S>, index: usize, hit: &Hit<S>, eye: Vec3<S>) -> Vec3<S> {
+        let mut c = surface.ambient;
         if !self.stages.illumination {
             return c;
         }
-        let diffuse = object.diffuse(&self.palette, hit);
-        let (specular, shininess) = self
-            .material_at(object, hit)
-            .map_or((S::ZERO, S::ZERO), |m| (m.specular, m.shininess));
+        let material = surface.material;
         for light in self.lights {
-            c = c + self.illuminate(light, index, hit, eye, diffuse, specular, shininess);
+            c = c + self.illuminate(
+                light,
+                index,
+                hit,
+                eye,
+                surface.diffuse,
+                material.specular,
+                material.shininess,
+            );
         }
         c
     }
@@ -231,22 +240,27 @@ impl<'s, S: Scalar> Shader<'s, S> {
         // that would make the walk revisit objects forever.
         for _ in 0..=self.objects.len().saturating_mul(2) {
             let ray = Ray::new(base, l);
-            let found = closest_hit_among(self.objects, self.among, &ray, Some(skip), self.z_limit);
-            let Some((index, hit)) = found else {
+            let found = closest_hit_among(
+                self.objects,
+                self.among,
+                &ray,
+                Some(skip),
+                remaining,
+                self.z_limit,
+            );
+            let Some((index, t)) = found else {
                 return Some(filter);
             };
-            if !(hit.t < remaining) {
-                return Some(filter);
-            }
             let object = self.objects.get(index)?;
-            let material = self.material_at(object, &hit)?;
+            let point = ray.at(t);
+            let material = self.palette.material(object.material_at(point))?;
             if material.transparency == S::ZERO {
                 return None;
             }
             filter = filter.mul_each(material.filter);
-            base = hit.point;
+            base = point;
             skip = index;
-            remaining = remaining - hit.t;
+            remaining = remaining - t;
         }
         None
     }

@@ -117,7 +117,7 @@ fn sphere_case<S: Bounds>(
     let c = Vec3::from_array(center);
     let on_sphere = |p: Vec3<f64>| ((p - c).length_f64() - radius).abs();
     if let Some(r) = ray::<S>(base, dir) {
-        if let Some(hit) = sphere.hits(&r) {
+        if let Some(hit) = sphere.hit(&r) {
             check_hit(&r, &hit, size)?;
             prop_assert!(
                 on_sphere(hit.point.to_f64()) <= S::OFF_SURFACE * size,
@@ -131,7 +131,7 @@ fn sphere_case<S: Bounds>(
             let out = d - n * (2.0 * d.dot(n));
             if out.dot(n) > 1e-3 {
                 let leaving = Ray::new(hit.point, Vec3::<S>::from_f64(out.arr()));
-                prop_assert_eq!(sphere.hits(&leaving), None, "{} re-hit", S::NAME);
+                prop_assert_eq!(sphere.hit(&leaving), None, "{} re-hit", S::NAME);
             }
         }
     }
@@ -140,7 +140,7 @@ fn sphere_case<S: Bounds>(
     let distance = (c - b).length_f64();
     if distance > radius * 1.01 + 1e-3 {
         if let Some(r) = ray::<S>(base, (c - b).arr()) {
-            let hit = sphere.hits(&r);
+            let hit = sphere.hit(&r);
             prop_assert!(hit.is_some(), "{}: aimed at the centre, missed", S::NAME);
             if let Some(hit) = hit {
                 let t = hit.t.to_f64();
@@ -169,7 +169,7 @@ fn plane_case<S: Bounds>(
         return Ok(());
     };
     let size = size(&[on, base], 0.0);
-    let Some(hit) = plane.hits(&r) else {
+    let Some(hit) = plane.hit(&r) else {
         return Ok(());
     };
     check_hit(&r, &hit, size)?;
@@ -194,7 +194,7 @@ fn plane_case<S: Bounds>(
     let mirrored = d - n * (2.0 * d.dot(n));
     for leaving_dir in [d, mirrored] {
         let leaving = Ray::new(hit.point, Vec3::<S>::from_f64(leaving_dir.arr()));
-        if let Some(again) = plane.hits(&leaving) {
+        if let Some(again) = plane.hit(&leaving) {
             // How far from the plane the point was that the ray came back to it from.
             let back = again.t.to_f64() * cos;
             prop_assert!(
@@ -220,7 +220,7 @@ fn rect_case<S: Bounds>(
     let Some(r) = ray::<S>(base, dir) else {
         return Ok(());
     };
-    if let Some(hit) = rect.hits(&r) {
+    if let Some(hit) = rect.hit(&r) {
         check_hit(&r, &hit, size(&[on, base], dims[0] + dims[1]))?;
     }
     Ok(())
@@ -251,7 +251,7 @@ fn no_nan<S: Scalar>(values: [f64; 10]) -> Result<(), TestCaseError> {
             let Some(dir) = Vec3::<S>::from_f64(dir).unit() else {
                 continue;
             };
-            if let Some(hit) = object.hits(&Ray::new(base, dir)) {
+            if let Some(hit) = object.hit(&Ray::new(base, dir)) {
                 let all = [hit.t.to_f64()]
                     .into_iter()
                     .chain(hit.point.to_f64().arr())

@@ -1,10 +1,8 @@
 //! The finite plane (`fplane`): a rectangle on a plane, and the in-plane axes that the tiled
 //! and textured planes share.
 
-use super::{
-    Hit, Object, ObjectVTable, Shape, object_ambient, object_diffuse, object_material,
-    object_specular,
-};
+use super::plane::plane_normal;
+use super::{Hit, Object, ObjectVTable, Shape, object_material, object_surface};
 use crate::error::{Attr, Entity, ErrorKind};
 use crate::material::MaterialId;
 use crate::object::plane::{Plane, PlaneDef};
@@ -110,13 +108,22 @@ impl<S: Scalar> Rect<S> {
         [self.u.dot(d), self.v.dot(d)]
     }
 
-    /// The plane's hit, if it lies within `0 <= q <= dimensions`.
+    /// The plane's hit below `limit`, if it lies within `0 <= q <= dimensions`.
     #[inline]
-    pub fn intersect(&self, ray: &Ray<S>) -> Option<Hit<S>> {
-        let hit = self.plane.intersect(ray)?;
-        let [qx, qy] = self.local(hit.point);
+    pub fn nearest(&self, ray: &Ray<S>, limit: S) -> Option<S> {
+        let t = self.plane.nearest(ray, limit)?;
+        let [qx, qy] = self.local(ray.at(t));
         let [w, h] = self.dimensions;
-        (qx >= S::ZERO && qx <= w && qy >= S::ZERO && qy <= h).then_some(hit)
+        (qx >= S::ZERO && qx <= w && qy >= S::ZERO && qy <= h).then_some(t)
+    }
+
+    /// The nearest hit as a hit record.
+    pub fn intersect(&self, ray: &Ray<S>) -> Option<Hit<S>> {
+        self.nearest(ray, S::UNBOUNDED).map(|t| Hit {
+            t,
+            point: ray.at(t),
+            normal: self.plane.unit_normal,
+        })
     }
 
     /// Writes the plane's attributes, `xdir` and `dimensions`.
@@ -131,12 +138,11 @@ impl<S: Scalar> Rect<S> {
     pub const VTABLE: ObjectVTable<S> = ObjectVTable {
         kind: Entity::FPlane,
         hits: fplane_hits,
+        normal: plane_normal,
         #[cfg(feature = "print")]
         printer: fplane_print,
         material: object_material,
-        ambient: object_ambient,
-        diffuse: object_diffuse,
-        specular: object_specular,
+        surface: object_surface,
     };
 }
 
@@ -156,9 +162,9 @@ pub fn fplane_init<S: Scalar>(
 }
 
 /// `hits` of a finite plane.
-pub fn fplane_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>) -> Option<Hit<S>> {
+pub fn fplane_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>, limit: S) -> Option<S> {
     match obj.shape() {
-        Shape::FPlane(rect) => rect.intersect(ray),
+        Shape::FPlane(rect) => rect.nearest(ray, limit),
         _ => None,
     }
 }
@@ -208,15 +214,15 @@ mod tests {
             panic!("not an fplane")
         };
         // Local (1, sqrt 2) is the world point (2, 1, -4).
-        let hit = obj.hits(&ray([2.0, 3.0, -2.0], [0.0, -1.0, -1.0])).unwrap();
+        let hit = obj.hit(&ray([2.0, 3.0, -2.0], [0.0, -1.0, -1.0])).unwrap();
         assert!((hit.point - Vec3::new(2.0, 1.0, -4.0)).length() < 1e-12);
         let [qx, qy] = rect.local(hit.point);
         assert!((qx - 1.0).abs() < 1e-12 && (qy - 2f64.sqrt()).abs() < 1e-12);
         // The same ray moved beyond the width (x = 7.5) or before the corner (x = 0.5).
-        assert_eq!(obj.hits(&ray([7.5, 3.0, -2.0], [0.0, -1.0, -1.0])), None);
-        assert_eq!(obj.hits(&ray([0.5, 3.0, -2.0], [0.0, -1.0, -1.0])), None);
+        assert_eq!(obj.hit(&ray([7.5, 3.0, -2.0], [0.0, -1.0, -1.0])), None);
+        assert_eq!(obj.hit(&ray([0.5, 3.0, -2.0], [0.0, -1.0, -1.0])), None);
         // Beyond the height: local y = 3.5 is the point (2, 2.47, -5.47).
-        assert_eq!(obj.hits(&ray([2.0, 6.0, -2.0], [0.0, -1.0, -1.0])), None);
+        assert_eq!(obj.hit(&ray([2.0, 6.0, -2.0], [0.0, -1.0, -1.0])), None);
         // The infinite plane under it is hit there.
         assert!(
             rect.plane

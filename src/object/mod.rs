@@ -26,6 +26,7 @@ use crate::texture::Texture;
 use crate::vec3::Vec3;
 #[cfg(feature = "print")]
 use core::fmt;
+use core::ops::ControlFlow;
 
 pub use fplane::{Rect, RectDef};
 pub use plane::{Plane, PlaneDef};
@@ -65,28 +66,45 @@ impl<'s, S: Scalar> Palette<'s, S> {
     }
 }
 
-/// A colour look-up at a hit (ambient, diffuse).
-pub type ColorLookup<S> = fn(&Object<S>, &Palette<'_, S>, &Hit<S>) -> Vec3<S>;
+/// What shading needs of a surface at a hit: the material in effect there, and the ambient
+/// and diffuse reflectivity (the material's, times a texel on textured planes).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Surface<'s, S> {
+    /// The material in effect at the hit (mirror, glint and transparency come from it).
+    pub material: &'s Material<S>,
+    /// Ambient reflectivity.
+    pub ambient: Vec3<S>,
+    /// Diffuse reflectivity.
+    pub diffuse: Vec3<S>,
+}
+
+/// The surface look-up of a kind (see [`ObjectVTable::surface`]).
+pub type SurfaceLookup<S> =
+    for<'s> fn(&Object<S>, &Palette<'s, S>, &Hit<S>) -> Option<Surface<'s, S>>;
 
 /// The function table of an object kind: the C `object_t`'s function pointers.
+///
+/// The hot path makes one `hits` call per object a ray is tested against, and one `normal`
+/// and one `surface` call for the object it meets first.
 #[derive(Debug)]
 pub struct ObjectVTable<S: Scalar> {
     /// The kind, for the printer's keyword.
     pub kind: Entity,
-    /// The nearest hit of a ray with `t > 0` (the scene's closest-hit search applies the z
-    /// rule, which depends on the scene's scale).
-    pub hits: fn(&Object<S>, &Ray<S>) -> Option<Hit<S>>,
+    /// The C `hits`: the ray parameter `t` of the nearest hit with `0 < t < limit`, or
+    /// `None` (the scene's closest-hit search applies the z rule, which depends on the
+    /// scene's scale). The limit lets a kind skip work for hits that could not count: the
+    /// nearest hit so far, or the distance to a light.
+    pub hits: fn(&Object<S>, &Ray<S>, S) -> Option<S>,
+    /// The unit surface normal at a point that `hits` found.
+    pub normal: fn(&Object<S>, Vec3<S>) -> Vec3<S>,
     /// Writes the object's block in scene text.
     #[cfg(feature = "print")]
     pub printer: fn(&Object<S>, &Palette<'_, S>, &mut dyn fmt::Write) -> fmt::Result,
-    /// The material in effect at a hit (the tiled plane's checkerboard overrides it).
-    pub material: fn(&Object<S>, &Hit<S>) -> MaterialId,
-    /// Ambient reflectivity at a hit.
-    pub ambient: ColorLookup<S>,
-    /// Diffuse reflectivity at a hit.
-    pub diffuse: ColorLookup<S>,
-    /// Mirror reflectivity at a hit.
-    pub specular: fn(&Object<S>, &Palette<'_, S>, &Hit<S>) -> S,
+    /// The material in effect at a point (the tiled plane's checkerboard overrides it).
+    pub material: fn(&Object<S>, Vec3<S>) -> MaterialId,
+    /// The surface at a hit: the C `ambient`, `diffuse` and `specular` look-ups in one call
+    /// (the textured plane multiplies ambient and diffuse by its texel).
+    pub surface: SurfaceLookup<S>,
 }
 
 /// Each kind's own data.
@@ -140,35 +158,42 @@ impl<S: Scalar> Object<S> {
         })
     }
 
-    /// The nearest hit along `ray` with `t > 0`.
+    /// The ray parameter of the nearest hit along `ray` with `0 < t < limit`.
     #[inline]
-    pub fn hits(&self, ray: &Ray<S>) -> Option<Hit<S>> {
-        (self.vtable.hits)(self, ray)
+    pub fn hits(&self, ray: &Ray<S>, limit: S) -> Option<S> {
+        (self.vtable.hits)(self, ray, limit)
+    }
+
+    /// The hit record at ray parameter `t` (from [`hits`](Self::hits)): the point and the
+    /// normal there.
+    #[inline]
+    pub fn hit_at(&self, ray: &Ray<S>, t: S) -> Hit<S> {
+        let point = ray.at(t);
+        Hit {
+            t,
+            point,
+            normal: (self.vtable.normal)(self, point),
+        }
+    }
+
+    /// The nearest hit along `ray` with `t > 0`, as a hit record.
+    pub fn hit(&self, ray: &Ray<S>) -> Option<Hit<S>> {
+        self.hits(ray, S::UNBOUNDED).map(|t| self.hit_at(ray, t))
     }
     /// Writes the object's block.
     #[cfg(feature = "print")]
     pub fn print(&self, palette: &Palette<'_, S>, out: &mut dyn fmt::Write) -> fmt::Result {
         (self.vtable.printer)(self, palette, out)
     }
-    /// The material in effect at a hit.
+    /// The material in effect at a point of the surface.
     #[inline]
-    pub fn material_at(&self, hit: &Hit<S>) -> MaterialId {
-        (self.vtable.material)(self, hit)
+    pub fn material_at(&self, point: Vec3<S>) -> MaterialId {
+        (self.vtable.material)(self, point)
     }
-    /// Ambient reflectivity at a hit.
+    /// The surface at a hit: material, ambient and diffuse reflectivity.
     #[inline]
-    pub fn ambient(&self, palette: &Palette<'_, S>, hit: &Hit<S>) -> Vec3<S> {
-        (self.vtable.ambient)(self, palette, hit)
-    }
-    /// Diffuse reflectivity at a hit.
-    #[inline]
-    pub fn diffuse(&self, palette: &Palette<'_, S>, hit: &Hit<S>) -> Vec3<S> {
-        (self.vtable.diffuse)(self, palette, hit)
-    }
-    /// Mirror reflectivity at a hit.
-    #[inline]
-    pub fn specular(&self, palette: &Palette<'_, S>, hit: &Hit<S>) -> S {
-        (self.vtable.specular)(self, palette, hit)
+    pub fn surface<'s>(&self, palette: &Palette<'s, S>, hit: &Hit<S>) -> Option<Surface<'s, S>> {
+        (self.vtable.surface)(self, palette, hit)
     }
 
     /// The object's kind.
@@ -194,7 +219,7 @@ impl<S: Scalar> Object<S> {
 }
 
 /// The default `hits`: no hit, as the C `object_no_hit`.
-pub fn object_no_hit<S: Scalar>(_: &Object<S>, _: &Ray<S>) -> Option<Hit<S>> {
+pub fn object_no_hit<S: Scalar>(_: &Object<S>, _: &Ray<S>, _: S) -> Option<S> {
     None
 }
 
@@ -210,48 +235,30 @@ pub fn object_print<S: Scalar>(
 }
 
 /// The default material look-up: the object's own.
-pub fn object_material<S: Scalar>(obj: &Object<S>, _: &Hit<S>) -> MaterialId {
+pub fn object_material<S: Scalar>(obj: &Object<S>, _: Vec3<S>) -> MaterialId {
     obj.material
 }
 
-/// The default ambient look-up (the C `material_getamb`).
-pub fn object_ambient<S: Scalar>(
+/// The default surface look-up (the C `material_getamb`, `_getdiff`, `_getspec`): the
+/// material in effect at the hit, and its colours.
+pub fn object_surface<'s, S: Scalar>(
     obj: &Object<S>,
-    palette: &Palette<'_, S>,
+    palette: &Palette<'s, S>,
     hit: &Hit<S>,
-) -> Vec3<S> {
-    palette
-        .material(obj.material_at(hit))
-        .map_or(Vec3::ZERO, |m| m.ambient)
-}
-
-/// The default diffuse look-up.
-pub fn object_diffuse<S: Scalar>(
-    obj: &Object<S>,
-    palette: &Palette<'_, S>,
-    hit: &Hit<S>,
-) -> Vec3<S> {
-    palette
-        .material(obj.material_at(hit))
-        .map_or(Vec3::ZERO, |m| m.diffuse)
-}
-
-/// The default specular look-up.
-pub fn object_specular<S: Scalar>(obj: &Object<S>, palette: &Palette<'_, S>, hit: &Hit<S>) -> S {
-    palette
-        .material(obj.material_at(hit))
-        .map_or(S::ZERO, |m| m.specular)
-}
-
-/// A hit at `t` if it is ahead of the ray (`t > 0`) and within the type's range (a `t`
-/// that overflowed to infinity or saturated is no place on the ray).
-#[inline]
-pub(crate) fn ahead<S: Scalar>(ray: &Ray<S>, t: S, normal: Vec3<S>) -> Option<Hit<S>> {
-    (t > S::ZERO && !t.is_beyond_range()).then(|| Hit {
-        t,
-        point: ray.at(t),
-        normal,
+) -> Option<Surface<'s, S>> {
+    let material = palette.material(obj.material_at(hit.point))?;
+    Some(Surface {
+        material,
+        ambient: material.ambient,
+        diffuse: material.diffuse,
     })
+}
+
+/// `t` if it is ahead of the ray (`t > 0`), within the type's range (a `t` that
+/// overflowed to infinity or saturated is no place on the ray) and below `limit`.
+#[inline]
+pub(crate) fn ahead<S: Scalar>(t: S, limit: S) -> Option<S> {
+    (t > S::ZERO && t < limit && !t.is_beyond_range()).then_some(t)
 }
 
 /// The nearest hit with `t > 0` among `objects`, skipping index `skip` (the object a ray
@@ -265,7 +272,8 @@ pub fn closest_hit<S: Scalar>(
     skip: Option<usize>,
     z_limit: S,
 ) -> Option<(usize, Hit<S>)> {
-    closest_hit_among(objects, Among::All, ray, skip, z_limit)
+    let (index, t) = closest_hit_among(objects, Among::All, ray, skip, S::UNBOUNDED, z_limit)?;
+    Some((index, objects.get(index)?.hit_at(ray, t)))
 }
 
 /// Which objects a ray is tested against.
@@ -278,36 +286,62 @@ pub enum Among<'a> {
     Only(&'a [u16]),
 }
 
-/// [`closest_hit`] over the objects `among`.
+impl Among<'_> {
+    /// Calls `visit` with each object's index and the object, in increasing order, until
+    /// it breaks.
+    #[inline]
+    fn each<S: Scalar>(
+        self,
+        objects: &[Object<S>],
+        mut visit: impl FnMut(usize, &Object<S>) -> ControlFlow<()>,
+    ) {
+        match self {
+            Among::All => {
+                for (index, object) in objects.iter().enumerate() {
+                    if visit(index, object).is_break() {
+                        return;
+                    }
+                }
+            }
+            Among::Only(list) => {
+                for &index in list {
+                    let index = usize::from(index);
+                    if let Some(object) = objects.get(index) {
+                        if visit(index, object).is_break() {
+                            return;
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The index and ray parameter of the nearest hit with `0 < t < limit` among the objects
+/// `among` (but `skip`), with the z rule of [`closest_hit`].
 #[inline]
 pub fn closest_hit_among<S: Scalar>(
     objects: &[Object<S>],
     among: Among<'_>,
     ray: &Ray<S>,
     skip: Option<usize>,
+    limit: S,
     z_limit: S,
-) -> Option<(usize, Hit<S>)> {
-    let mut best: Option<(usize, Hit<S>)> = None;
-    let mut test = |index: usize, object: &Object<S>| {
-        if Some(index) == skip {
-            return;
-        }
-        if let Some(hit) = object.hits(ray) {
-            if hit.point.z <= z_limit && best.as_ref().is_none_or(|(_, b)| hit.t < b.t) {
-                best = Some((index, hit));
-            }
-        }
-    };
-    match among {
-        Among::All => objects.iter().enumerate().for_each(|(i, o)| test(i, o)),
-        Among::Only(list) => {
-            for &index in list {
-                if let Some(object) = objects.get(usize::from(index)) {
-                    test(usize::from(index), object);
+) -> Option<(usize, S)> {
+    let mut best = None;
+    let mut limit = limit;
+    among.each(objects, |index, object| {
+        if Some(index) != skip {
+            if let Some(t) = object.hits(ray, limit) {
+                // The hit point's z, as `ray.at(t)` computes it.
+                if ray.base.z + ray.dir.z * t <= z_limit {
+                    best = Some((index, t));
+                    limit = t;
                 }
             }
         }
-    }
+        ControlFlow::Continue(())
+    });
     best
 }
 
@@ -323,20 +357,19 @@ pub fn any_hit_among<S: Scalar>(
     limit: S,
     z_limit: S,
 ) -> bool {
-    let blocks = |index: usize, object: &Object<S>| {
-        index != skip
+    let mut blocked = false;
+    among.each(objects, |index, object| {
+        blocked = index != skip
             && object
-                .hits(ray)
-                .is_some_and(|hit| hit.t < limit && hit.point.z <= z_limit)
-    };
-    match among {
-        Among::All => objects.iter().enumerate().any(|(i, o)| blocks(i, o)),
-        Among::Only(list) => list.iter().any(|&index| {
-            objects
-                .get(usize::from(index))
-                .is_some_and(|object| blocks(usize::from(index), object))
-        }),
-    }
+                .hits(ray, limit)
+                .is_some_and(|t| ray.base.z + ray.dir.z * t <= z_limit);
+        if blocked {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    });
+    blocked
 }
 
 /// Hit points with `z` above this are in front of the image plane (in scene units, before

@@ -1,9 +1,6 @@
 //! The infinite plane: the seed's `plane_t`, `plane_init`, `plane_hits` and `plane_print`.
 
-use super::{
-    Hit, Object, ObjectVTable, Shape, ahead, object_ambient, object_diffuse, object_material,
-    object_specular,
-};
+use super::{Hit, Object, ObjectVTable, Shape, ahead, object_material, object_surface};
 use crate::error::{Attr, Entity, ErrorKind};
 use crate::material::MaterialId;
 #[cfg(feature = "print")]
@@ -58,20 +55,29 @@ impl<S: Scalar> Plane<S> {
     }
 
     /// The seed's `plane_hits`: `t = (N.point - N.base) / N.dir`; no hit when the ray is
-    /// parallel (`N.dir == 0`) or when `t <= 0`.
+    /// parallel (`N.dir == 0`), when `t <= 0`, or when `t` is not below `limit`.
     #[inline]
-    pub fn intersect(&self, ray: &Ray<S>) -> Option<Hit<S>> {
+    pub fn nearest(&self, ray: &Ray<S>, limit: S) -> Option<S> {
         let n_dot_dir = self.unit_normal.dot(ray.dir);
         if n_dot_dir == S::ZERO {
             return None;
         }
         let distance = self.n_dot_point - self.unit_normal.dot(ray.base);
         // t <= 0 unless both have the same sign: skip the division (the costliest step in
-        // fixed point) for planes behind the ray.
+        // fixed point) for planes behind the ray, and for planes beyond `limit`.
         if (distance > S::ZERO) != (n_dot_dir > S::ZERO) || distance == S::ZERO {
             return None;
         }
-        ahead(ray, distance / n_dot_dir, self.unit_normal)
+        ahead(S::quotient_below(distance, n_dot_dir, limit)?, limit)
+    }
+
+    /// The nearest hit as a hit record.
+    pub fn intersect(&self, ray: &Ray<S>) -> Option<Hit<S>> {
+        self.nearest(ray, S::UNBOUNDED).map(|t| Hit {
+            t,
+            point: ray.at(t),
+            normal: self.unit_normal,
+        })
     }
 
     /// Writes `normal` and `point`.
@@ -85,12 +91,11 @@ impl<S: Scalar> Plane<S> {
     pub const VTABLE: ObjectVTable<S> = ObjectVTable {
         kind: Entity::Plane,
         hits: plane_hits,
+        normal: plane_normal,
         #[cfg(feature = "print")]
         printer: plane_print,
         material: object_material,
-        ambient: object_ambient,
-        diffuse: object_diffuse,
-        specular: object_specular,
+        surface: object_surface,
     };
 }
 
@@ -110,10 +115,21 @@ pub fn plane_init<S: Scalar>(
 }
 
 /// `hits` of a plane.
-pub fn plane_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>) -> Option<Hit<S>> {
+pub fn plane_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>, limit: S) -> Option<S> {
     match obj.shape() {
-        Shape::Plane(plane) => plane.intersect(ray),
+        Shape::Plane(plane) => plane.nearest(ray, limit),
         _ => None,
+    }
+}
+
+/// `normal` of the plane kinds: the unit normal, everywhere.
+pub fn plane_normal<S: Scalar>(obj: &Object<S>, _: Vec3<S>) -> Vec3<S> {
+    match obj.shape() {
+        Shape::Plane(plane) => plane.unit_normal,
+        Shape::FPlane(rect) => rect.plane.unit_normal,
+        Shape::TiledPlane(tiled) => tiled.rect.plane.unit_normal,
+        Shape::TexPlane(textured) => textured.rect.plane.unit_normal,
+        Shape::Sphere(_) => Vec3::ZERO,
     }
 }
 
@@ -153,7 +169,7 @@ mod tests {
     fn seed_example() {
         // The seed's worked example: N = (0,0,1), point (0,0,-7), base (4,3,5), dir (0,0,-1).
         let hit = floor_at_minus_7()
-            .hits(&ray([4.0, 3.0, 5.0], [0.0, 0.0, -1.0]))
+            .hit(&ray([4.0, 3.0, 5.0], [0.0, 0.0, -1.0]))
             .unwrap();
         assert_eq!(hit.t, 12.0);
         assert_eq!(hit.point, Vec3::new(4.0, 3.0, -7.0));
@@ -163,8 +179,8 @@ mod tests {
     #[test]
     fn parallel_and_behind_miss() {
         let p = floor_at_minus_7();
-        assert_eq!(p.hits(&ray([4.0, 3.0, 5.0], [1.0, 0.0, 0.0])), None);
-        assert_eq!(p.hits(&ray([4.0, 3.0, 5.0], [0.0, 0.0, 1.0])), None);
+        assert_eq!(p.hit(&ray([4.0, 3.0, 5.0], [1.0, 0.0, 0.0])), None);
+        assert_eq!(p.hit(&ray([4.0, 3.0, 5.0], [0.0, 0.0, 1.0])), None);
     }
 
     #[test]
@@ -202,6 +218,9 @@ mod tests {
             panic!("not a plane")
         };
         let r = ray([1.0, 2.0, 0.0], [0.1, -0.2, -1.0]);
-        assert_eq!(p.hits(&r), plane.intersect(&r));
+        assert_eq!(p.hit(&r), plane.intersect(&r));
+        // Below the limit only: the hit is at t = 7 |(0.1, -0.2, -1)| = 7.17.
+        assert!(p.hits(&r, 7.2).is_some());
+        assert_eq!(p.hits(&r, 7.1), None);
     }
 }

@@ -1,9 +1,6 @@
 //! The sphere.
 
-use super::{
-    Hit, Object, ObjectVTable, Shape, ahead, object_ambient, object_diffuse, object_material,
-    object_specular,
-};
+use super::{Object, ObjectVTable, Shape, ahead, object_material, object_surface};
 use crate::error::{Attr, Entity, ErrorKind};
 use crate::material::MaterialId;
 #[cfg(feature = "print")]
@@ -56,8 +53,10 @@ impl<S: Scalar> Sphere<S> {
     /// `q = -(b + sign(b) sqrt(disc))`, which does not subtract two close numbers. `c =
     /// |f|^2 - r^2` is evaluated as `(|f| - r)(|f| + r)` and divided by `q` before the second
     /// factor, so nothing is squared that could overflow a fixed-point type.
+    ///
+    /// `None` as well when the near root is not below `limit`.
     #[inline]
-    pub fn intersect(&self, ray: &Ray<S>) -> Option<Hit<S>> {
+    pub fn nearest(&self, ray: &Ray<S>, limit: S) -> Option<S> {
         let f = ray.base - self.center;
         let b = f.dot(ray.dir);
         if b > S::ZERO {
@@ -73,21 +72,25 @@ impl<S: Scalar> Sphere<S> {
         let q = discriminant.sqrt() - b;
         let distance = f.length();
         let t = (distance - self.radius) * ((distance + self.radius) / q);
-        let hit = ahead(ray, t, Vec3::ZERO)?;
-        let normal = (hit.point - self.center).unit()?;
-        Some(Hit { normal, ..hit })
+        ahead(t, limit)
+    }
+
+    /// The unit normal at a point of the sphere: `unit(point - center)` (the zero vector
+    /// at the centre, which no hit reaches).
+    #[inline]
+    pub fn normal_at(&self, point: Vec3<S>) -> Vec3<S> {
+        (point - self.center).unit().unwrap_or(Vec3::ZERO)
     }
 
     /// The sphere kind's function table.
     pub const VTABLE: ObjectVTable<S> = ObjectVTable {
         kind: Entity::Sphere,
         hits: sphere_hits,
+        normal: sphere_normal,
         #[cfg(feature = "print")]
         printer: sphere_print,
         material: object_material,
-        ambient: object_ambient,
-        diffuse: object_diffuse,
-        specular: object_specular,
+        surface: object_surface,
     };
 }
 
@@ -107,10 +110,18 @@ pub fn sphere_init<S: Scalar>(
 }
 
 /// `hits` of a sphere.
-pub fn sphere_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>) -> Option<Hit<S>> {
+pub fn sphere_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>, limit: S) -> Option<S> {
     match obj.shape() {
-        Shape::Sphere(sphere) => sphere.intersect(ray),
+        Shape::Sphere(sphere) => sphere.nearest(ray, limit),
         _ => None,
+    }
+}
+
+/// `normal` of a sphere.
+pub fn sphere_normal<S: Scalar>(obj: &Object<S>, point: Vec3<S>) -> Vec3<S> {
+    match obj.shape() {
+        Shape::Sphere(sphere) => sphere.normal_at(point),
+        _ => Vec3::ZERO,
     }
 }
 
@@ -149,16 +160,12 @@ mod tests {
 
     #[test]
     fn near_root_and_normal() {
-        let hit = ball()
-            .hits(&ray([0.0, 0.0, 0.0], [0.0, 0.0, -1.0]))
-            .unwrap();
+        let hit = ball().hit(&ray([0.0, 0.0, 0.0], [0.0, 0.0, -1.0])).unwrap();
         assert_eq!(hit.t, 8.0);
         assert_eq!(hit.point, Vec3::new(0.0, 0.0, -8.0));
         assert_eq!(hit.normal, Vec3::new(0.0, 0.0, 1.0));
         // Off-axis: base (1,0,0) along -z meets the sphere at z = -10 + sqrt(3).
-        let hit = ball()
-            .hits(&ray([1.0, 0.0, 0.0], [0.0, 0.0, -1.0]))
-            .unwrap();
+        let hit = ball().hit(&ray([1.0, 0.0, 0.0], [0.0, 0.0, -1.0])).unwrap();
         assert!((hit.t - (10.0 - 3f64.sqrt())).abs() < 1e-12);
         assert!((hit.normal.length() - 1.0).abs() < 1e-15);
     }
@@ -167,10 +174,10 @@ mod tests {
     fn misses() {
         let s = ball();
         // Passes beside, grazes (discriminant 0), points away, starts inside.
-        assert_eq!(s.hits(&ray([3.0, 0.0, 0.0], [0.0, 0.0, -1.0])), None);
-        assert_eq!(s.hits(&ray([2.0, 0.0, 0.0], [0.0, 0.0, -1.0])), None);
-        assert_eq!(s.hits(&ray([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])), None);
-        assert_eq!(s.hits(&ray([0.0, 0.0, -10.0], [0.0, 0.0, -1.0])), None);
+        assert_eq!(s.hit(&ray([3.0, 0.0, 0.0], [0.0, 0.0, -1.0])), None);
+        assert_eq!(s.hit(&ray([2.0, 0.0, 0.0], [0.0, 0.0, -1.0])), None);
+        assert_eq!(s.hit(&ray([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])), None);
+        assert_eq!(s.hit(&ray([0.0, 0.0, -10.0], [0.0, 0.0, -1.0])), None);
     }
 
     #[test]

@@ -1,10 +1,8 @@
 //! The textured plane: a rectangle whose ambient and diffuse colours are multiplied by an
 //! image.
 
-use super::{
-    Hit, Object, ObjectVTable, Palette, Shape, object_ambient, object_diffuse, object_material,
-    object_specular,
-};
+use super::plane::plane_normal;
+use super::{Hit, Object, ObjectVTable, Palette, Shape, Surface, object_material, object_surface};
 use crate::error::{Entity, ErrorKind};
 use crate::material::MaterialId;
 use crate::object::fplane::{Rect, RectDef};
@@ -69,17 +67,16 @@ impl<S: Scalar> TexPlane<S> {
         Vec3::new(scale(r), scale(g), scale(b))
     }
 
-    /// The textured plane kind's function table: the rectangle's `hits`, and ambient and
-    /// diffuse look-ups multiplied by the texel.
+    /// The textured plane kind's function table: the rectangle's `hits`, and a surface
+    /// look-up whose ambient and diffuse colours are multiplied by the texel.
     pub const VTABLE: ObjectVTable<S> = ObjectVTable {
         kind: Entity::TexPlane,
         hits: texplane_hits,
+        normal: plane_normal,
         #[cfg(feature = "print")]
         printer: texplane_print,
         material: object_material,
-        ambient: texplane_ambient,
-        diffuse: texplane_diffuse,
-        specular: object_specular,
+        surface: texplane_surface,
     };
 }
 
@@ -101,36 +98,30 @@ pub fn texplane_init<S: Scalar>(
 }
 
 /// `hits` of a textured plane: the rectangle's.
-pub fn texplane_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>) -> Option<Hit<S>> {
+pub fn texplane_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>, limit: S) -> Option<S> {
     match obj.shape() {
-        Shape::TexPlane(textured) => textured.rect.intersect(ray),
+        Shape::TexPlane(textured) => textured.rect.nearest(ray, limit),
         _ => None,
     }
 }
 
-fn texel_factor<S: Scalar>(obj: &Object<S>, palette: &Palette<'_, S>, hit: &Hit<S>) -> Vec3<S> {
-    match obj.shape() {
-        Shape::TexPlane(textured) => textured.texel(palette, hit),
-        _ => Vec3::new(S::ONE, S::ONE, S::ONE),
-    }
-}
-
-/// Ambient look-up of a textured plane: the material's, times the texel.
-pub fn texplane_ambient<S: Scalar>(
+/// The surface look-up of a textured plane: the material's ambient and diffuse colours,
+/// times the texel under the hit.
+pub fn texplane_surface<'s, S: Scalar>(
     obj: &Object<S>,
-    palette: &Palette<'_, S>,
+    palette: &Palette<'s, S>,
     hit: &Hit<S>,
-) -> Vec3<S> {
-    object_ambient(obj, palette, hit).mul_each(texel_factor(obj, palette, hit))
-}
-
-/// Diffuse look-up of a textured plane: the material's, times the texel.
-pub fn texplane_diffuse<S: Scalar>(
-    obj: &Object<S>,
-    palette: &Palette<'_, S>,
-    hit: &Hit<S>,
-) -> Vec3<S> {
-    object_diffuse(obj, palette, hit).mul_each(texel_factor(obj, palette, hit))
+) -> Option<Surface<'s, S>> {
+    let surface = object_surface(obj, palette, hit)?;
+    let Shape::TexPlane(textured) = obj.shape() else {
+        return Some(surface);
+    };
+    let texel = textured.texel(palette, hit);
+    Some(Surface {
+        ambient: surface.ambient.mul_each(texel),
+        diffuse: surface.diffuse.mul_each(texel),
+        ..surface
+    })
 }
 
 /// `printer` of a textured plane.
@@ -191,8 +182,9 @@ mod tests {
         );
         let obj: Object<f64> = texplane_init("w", 1, &def, 0, TextureMode::Fit, 1.0).unwrap();
         let look = |x: f64, y: f64| {
-            let hit = obj.hits(&ray([x, y, 0.0], [0.0, 0.0, -1.0])).unwrap();
-            (obj.ambient(&palette, &hit), obj.diffuse(&palette, &hit))
+            let hit = obj.hit(&ray([x, y, 0.0], [0.0, 0.0, -1.0])).unwrap();
+            let surface = obj.surface(&palette, &hit).unwrap();
+            (surface.ambient, surface.diffuse)
         };
         let k = 255.0 / 256.0;
         // Lower left is the image's bottom-left texel (green).

@@ -1,6 +1,7 @@
 //! The tiled plane: an infinite checkerboard of two materials.
 
-use super::{Hit, Object, ObjectVTable, Shape, object_ambient, object_diffuse, object_specular};
+use super::plane::plane_normal;
+use super::{Object, ObjectVTable, Shape, object_surface};
 use crate::error::{Entity, ErrorKind};
 use crate::material::MaterialId;
 use crate::object::fplane::{Rect, RectDef};
@@ -8,6 +9,7 @@ use crate::object::fplane::{Rect, RectDef};
 use crate::print;
 use crate::ray::Ray;
 use crate::scalar::Scalar;
+use crate::vec3::Vec3;
 #[cfg(feature = "print")]
 use core::fmt;
 
@@ -55,28 +57,27 @@ impl<S: Scalar> TiledPlane<S> {
     /// itself, not relative to `point`), `ix = floor((q.x + 100000) / width)`, likewise `iy`;
     /// even `ix + iy` is the alternate material.
     #[inline]
-    pub fn is_alternate(&self, hit: &Hit<S>) -> bool {
+    pub fn is_alternate(&self, point: Vec3<S>) -> bool {
         // floor((q + 100000) / w) = K + floor(q / w + f) where 100000 / w = K + f: only the
         // parity of K is kept.
         let [w, h] = self.rect.dimensions;
         let [(odd_x, fx), (odd_y, fy)] = self.offset;
-        let ix = (self.rect.u.dot(hit.point) / w + fx).floor_to_i32();
-        let iy = (self.rect.v.dot(hit.point) / h + fy).floor_to_i32();
+        let ix = (self.rect.u.dot(point) / w + fx).floor_to_i32();
+        let iy = (self.rect.v.dot(point) / h + fy).floor_to_i32();
         let parity = (ix.wrapping_add(iy) & 1 == 1) ^ odd_x ^ odd_y;
         !parity
     }
 
     /// The tiled plane kind's function table: the plane's `hits`, and a material look-up
-    /// that the ambient, diffuse and specular look-ups follow.
+    /// that the surface look-up follows.
     pub const VTABLE: ObjectVTable<S> = ObjectVTable {
         kind: Entity::TiledPlane,
         hits: tiled_plane_hits,
+        normal: plane_normal,
         #[cfg(feature = "print")]
         printer: tiled_plane_print,
         material: tiled_plane_material,
-        ambient: object_ambient,
-        diffuse: object_diffuse,
-        specular: object_specular,
+        surface: object_surface,
     };
 }
 
@@ -98,17 +99,17 @@ pub fn tiled_plane_init<S: Scalar>(
 }
 
 /// `hits` of a tiled plane: the infinite plane's.
-pub fn tiled_plane_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>) -> Option<Hit<S>> {
+pub fn tiled_plane_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>, limit: S) -> Option<S> {
     match obj.shape() {
-        Shape::TiledPlane(tiled) => tiled.rect.plane.intersect(ray),
+        Shape::TiledPlane(tiled) => tiled.rect.plane.nearest(ray, limit),
         _ => None,
     }
 }
 
 /// The material look-up of a tiled plane: the parity rule.
-pub fn tiled_plane_material<S: Scalar>(obj: &Object<S>, hit: &Hit<S>) -> MaterialId {
+pub fn tiled_plane_material<S: Scalar>(obj: &Object<S>, point: Vec3<S>) -> MaterialId {
     match obj.shape() {
-        Shape::TiledPlane(tiled) if tiled.is_alternate(hit) => tiled.altmaterial,
+        Shape::TiledPlane(tiled) if tiled.is_alternate(point) => tiled.altmaterial,
         _ => obj.material(),
     }
 }
@@ -166,11 +167,12 @@ mod tests {
         };
         // u = (1,0,0), v = n x u = (0,0,-1): q = (x, -z).
         let at = |x: f64, z: f64| {
-            let hit = obj.hits(&ray([x, 1.0, z], [0.0, -1.0, 0.0])).unwrap();
+            let hit = obj.hit(&ray([x, 1.0, z], [0.0, -1.0, 0.0])).unwrap();
+            let surface = obj.surface(&palette, &hit).unwrap();
             (
-                obj.material_at(&hit),
-                obj.ambient(&palette, &hit),
-                obj.specular(&palette, &hit),
+                obj.material_at(hit.point),
+                surface.ambient,
+                surface.material.specular,
             )
         };
         // x = 0.5, z = -0.5: ix = floor(100000.5) = 100000, iy = floor(100000.5): even → alt.

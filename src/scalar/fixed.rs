@@ -195,6 +195,7 @@ impl Scalar for I16F16 {
     const ZERO: Self = Self::from_bits(0);
     const ONE: Self = Self::from_bits(1 << FRAC);
     const TWO: Self = Self::from_bits(2 << FRAC);
+    const UNBOUNDED: Self = Self::MAX;
     // Distances between points of a cube of half-side 8192 stay below 2 sqrt(3) 8192 = 28378.
     const MAX_EXTENT: f64 = 8192.0;
     // Half the range: room for a few lights' terms to be added before the division.
@@ -321,6 +322,21 @@ impl Scalar for I16F16 {
                 v.z.divide_by_zero(),
             ),
         }
+    }
+    /// Exact without the division when the quotient is not below `limit`: for positive
+    /// `a / b` the truncated quotient `floor(a 2^16 / b)` (saturated) is at least `l` exactly
+    /// when `a 2^16 >= l b`, a 64-bit comparison.
+    #[inline]
+    fn quotient_below(num: Self, den: Self, limit: Self) -> Option<Self> {
+        let (a, b, l) = (num.to_bits(), den.to_bits(), limit.to_bits());
+        if l > 0 && a != 0 && b != 0 && (a > 0) == (b > 0) {
+            let scaled = u64::from(a.unsigned_abs()) << FRAC;
+            if scaled >= mul_u32(l as u32, b.unsigned_abs()) {
+                return None;
+            }
+        }
+        let q = num / den;
+        (q < limit).then_some(q)
     }
     #[inline]
     fn length(v: Vec3<Self>) -> Self {

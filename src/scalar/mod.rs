@@ -50,6 +50,9 @@ pub trait Scalar:
     const ONE: Self;
     /// Two.
     const TWO: Self;
+    /// A limit above every ray parameter that counts: infinity for the float types, the
+    /// largest value for fixed point (where a saturated value counts as no hit).
+    const UNBOUNDED: Self;
     /// Scenes whose coordinates exceed this are scaled down at load (by a power of two, so
     /// that the image is unchanged in exact arithmetic).
     const MAX_EXTENT: f64;
@@ -129,6 +132,14 @@ pub trait Scalar:
     fn recip(self) -> Self {
         Self::ONE / self
     }
+    /// `num / den`, exactly as `/` computes it, when that is below `limit`; `None` when it
+    /// is not. A type may tell without dividing: a plane behind the nearest hit so far
+    /// costs no division.
+    #[inline]
+    fn quotient_below(num: Self, den: Self, limit: Self) -> Option<Self> {
+        let q = num / den;
+        (q < limit).then_some(q)
+    }
 
     /// Whether the value stands for something beyond the type's range: infinite or NaN for
     /// the float types, saturated for fixed point. A ray parameter like that is no hit.
@@ -159,6 +170,7 @@ impl Scalar for f64 {
     const ZERO: Self = 0.0;
     const ONE: Self = 1.0;
     const TWO: Self = 2.0;
+    const UNBOUNDED: Self = f64::INFINITY;
     // Squares of coordinates stay finite below 2^500.
     const MAX_EXTENT: f64 = 3.273390607896142e150;
     const MAX_TERM: f64 = 1e300;
@@ -205,6 +217,10 @@ impl Scalar for f64 {
     fn is_beyond_range(self) -> bool {
         !self.is_finite()
     }
+    #[inline]
+    fn quotient_below(num: Self, den: Self, limit: Self) -> Option<Self> {
+        f64_quotient_below(num, den, limit)
+    }
 }
 
 impl Scalar for f32 {
@@ -212,6 +228,7 @@ impl Scalar for f32 {
     const ZERO: Self = 0.0;
     const ONE: Self = 1.0;
     const TWO: Self = 2.0;
+    const UNBOUNDED: Self = f32::INFINITY;
     // Squares of coordinates stay finite below 2^60.
     const MAX_EXTENT: f64 = 1.152921504606847e18;
     const MAX_TERM: f64 = 1e36;
@@ -279,7 +296,37 @@ impl Scalar for f32 {
     fn is_beyond_range(self) -> bool {
         !self.is_finite()
     }
+    #[inline]
+    fn quotient_below(num: Self, den: Self, limit: Self) -> Option<Self> {
+        f32_quotient_below(num, den, limit)
+    }
 }
+
+/// [`Scalar::quotient_below`] for `f32` and `f64`: when `num` and `den` have the same sign
+/// and `limit` is finite, `|num| > |den| limit` by more than 16 units in the last place
+/// means the rounded quotient is at least `limit` (the quotient's and the product's
+/// roundings are 1 unit each), so it is not computed. A product that is subnormal,
+/// infinite or NaN decides nothing.
+macro_rules! float_quotient_below {
+    ($name:ident, $float:ty) => {
+        #[inline]
+        fn $name(num: $float, den: $float, limit: $float) -> Option<$float> {
+            let same_sign = (num > 0.0) == (den > 0.0);
+            if same_sign && limit > 0.0 && limit.is_finite() {
+                let bound = den.abs() * limit;
+                // 16 units up: the bit pattern of a positive float is monotone in its value.
+                let slack = <$float>::from_bits(bound.to_bits() + 16);
+                if bound >= <$float>::MIN_POSITIVE && num.abs() > slack {
+                    return None;
+                }
+            }
+            let q = num / den;
+            (q < limit).then_some(q)
+        }
+    };
+}
+float_quotient_below!(f32_quotient_below, f32);
+float_quotient_below!(f64_quotient_below, f64);
 
 /// `f32` square root: the FPU's VSQRT where the target has one (Cortex-M4F/M7 with the
 /// hard-float ABI), `libm` elsewhere. Both are IEEE square roots, correctly rounded, so the

@@ -5,7 +5,7 @@ use crate::name::{Name, bounded};
 #[cfg(feature = "print")]
 use crate::print;
 use crate::ray::Ray;
-use crate::scalar::{Scalar, load_length, load_position};
+use crate::scalar::{PixelSteps, Scalar, load_length, load_position};
 use crate::vec3::Vec3;
 #[cfg(feature = "print")]
 use core::fmt;
@@ -14,6 +14,109 @@ use core::fmt;
 /// number type's [`Scalar::UNIT_STEP`]; below that the rounding of the rays merges rows (a
 /// window 0.006 high over 120 rows, seen from 6 away, is 0.5 steps apart in Q16.16).
 pub const MIN_PIXEL_STEPS: u32 = 16;
+
+/// The primary rays of one image row, left to right: `Some` ray per pixel, `None` where
+/// the eye lies on the pixel's point (no direction).
+#[derive(Clone, Debug)]
+pub struct RowRays<S> {
+    eye: Vec3<S>,
+    dy: S,
+    dz: S,
+    x: Positions<S>,
+    left: u16,
+}
+
+impl<S: Scalar> Iterator for RowRays<S> {
+    type Item = Option<Ray<S>>;
+
+    #[inline]
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.left == 0 {
+            return None;
+        }
+        self.left -= 1;
+        let x = self.x.next_position();
+        let dir = Vec3::new(x - self.eye.x, self.dy, self.dz);
+        if S::COURSE_ORDER {
+            Some(dir.unit().map(|unit| Ray::with_length(self.eye, unit, S::ONE)))
+        } else {
+            Some((!dir.is_zero()).then(|| Ray::new(self.eye, dir)))
+        }
+    }
+}
+
+/// The positions `world * i / n` along one axis for `i = first, first + 1, ...`, as the
+/// number type's [`PixelSteps`] finds them.
+#[derive(Clone, Debug)]
+struct Positions<S> {
+    world: S,
+    n: u16,
+    i: u16,
+    /// `Multiply`: `world / n`. `Exact`: `floor(world / n)` in the type's steps.
+    step: S,
+    /// `Exact`: the next position, the type's smallest step, and the remainders (in
+    /// those steps) of the position and of the step, below `n`.
+    value: S,
+    bump: S,
+    remainder: u32,
+    remainder_step: u32,
+}
+
+impl<S: Scalar> Positions<S> {
+    fn new(world: S, n: u16, first: u16) -> Self {
+        let mut positions = Self {
+            world,
+            n,
+            i: first,
+            step: S::ZERO,
+            value: S::ZERO,
+            bump: S::ZERO,
+            remainder: 0,
+            remainder_step: 0,
+        };
+        match S::PIXEL_STEPS {
+            PixelSteps::Course => {}
+            PixelSteps::Multiply => positions.step = world / S::from_i32(i32::from(n.max(1))),
+            PixelSteps::Exact => {
+                // In steps of the type's resolution every value is an integer below 2^31,
+                // so these f64 products and differences are exact.
+                let resolution = S::MIN_NORMAL;
+                let count = |v: f64| libm::round(v / resolution);
+                let n_f = f64::from(n.max(1));
+                positions.step = world.mul_ratio(1, n.max(1));
+                positions.value = world.mul_ratio(first, n.max(1));
+                positions.bump = S::from_f64(resolution);
+                positions.remainder_step =
+                    count(world.to_f64() - positions.step.to_f64() * n_f) as u32;
+                positions.remainder = count(
+                    world.to_f64() * f64::from(first) - positions.value.to_f64() * n_f,
+                ) as u32;
+            }
+        }
+        positions
+    }
+
+    /// The position at `i`, then on to `i + 1`.
+    #[inline]
+    fn next_position(&mut self) -> S {
+        let i = self.i;
+        self.i = self.i.saturating_add(1);
+        match S::PIXEL_STEPS {
+            PixelSteps::Course => self.world.mul_ratio(i, self.n),
+            PixelSteps::Multiply => self.step * S::from_i32(i32::from(i)),
+            PixelSteps::Exact => {
+                let value = self.value;
+                self.value = self.value + self.step;
+                self.remainder += self.remainder_step;
+                if self.remainder >= u32::from(self.n) {
+                    self.remainder -= u32::from(self.n);
+                    self.value = self.value + self.bump;
+                }
+                value
+            }
+        }
+    }
+}
 
 /// A camera as written in a scene (or in Rust source): plain `f64` data.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -172,17 +275,27 @@ impl<S: Scalar> Camera<S> {
 
     /// The primary ray through pixel `(x, y)`, `y = 0` the bottom row: from the viewpoint to
     /// `(worlddim.x * x / (pixeldim.x - 1), worlddim.y * y / (pixeldim.y - 1), 0)`. `None`
-    /// when the viewpoint lies on that point (no direction).
+    /// when the viewpoint lies on that point (no direction). The same ray as
+    /// [`row_rays`](Self::row_rays) gives for the pixel.
     #[inline]
     pub fn primary_ray(&self, x: u16, y: u16) -> Option<Ray<S>> {
-        let span = |world: S, i: u16, pixels: u16| world.mul_ratio(i, pixels.saturating_sub(1));
-        let on_screen = Vec3::new(
-            span(self.world[0], x, self.width),
-            span(self.world[1], y, self.height),
-            S::ZERO,
-        );
-        let dir = (on_screen - self.viewpoint).unit()?;
-        Some(Ray::new(self.viewpoint, dir))
+        self.row_rays(y, x).next().flatten()
+    }
+
+    /// The primary rays of row `y` (`y = 0` the bottom) from column `first` rightwards.
+    /// In `f64` each is normalised, as the course does; the other types leave the direction
+    /// from the eye to the pixel as it is (see [`Ray`]).
+    pub fn row_rays(&self, y: u16, first: u16) -> RowRays<S> {
+        let [world_x, world_y] = self.world;
+        let height = self.height.saturating_sub(1);
+        let on_screen_y = world_y.mul_ratio(y, height);
+        RowRays {
+            eye: self.viewpoint,
+            dy: on_screen_y - self.viewpoint.y,
+            dz: S::ZERO - self.viewpoint.z,
+            x: Positions::new(world_x, self.width.saturating_sub(1), first),
+            left: self.width.saturating_sub(first),
+        }
     }
 
     /// Writes the camera block.

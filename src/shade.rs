@@ -128,27 +128,39 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let Some(surface) = object.surface(&self.palette, &hit) else {
             return Vec3::ZERO;
         };
-        let total = total + hit.t;
-        let mut c = self.local(&surface, index, &hit, ray.base) / total;
+        // The distance travelled: `t` for the unit rays of f64, `t |dir|` otherwise.
+        let (len, travelled) = if S::COURSE_ORDER {
+            (S::ONE, t)
+        } else {
+            let len = ray.length();
+            (len, t * len)
+        };
+        let total = total + travelled;
+        let mut c = if S::COURSE_ORDER {
+            self.local(&surface, index, &hit, ray.base) / total
+        } else {
+            self.local_divided(&surface, index, &hit, ray, total)
+        };
         let material = surface.material;
         // `cfg!`: a build without the feature has no such materials (they fail to load), and
         // the compiler drops the code.
         if cfg!(feature = "reflection") && self.stages.reflection && material.specular != S::ZERO {
-            let reflected = Ray::new(hit.point, reflect(ray.dir, hit.normal));
+            let reflected = Ray::with_length(hit.point, reflect(ray.dir, hit.normal), len);
             c = c + self.trace(&reflected, total, Some(index), depth + 1) * material.specular;
         }
         if cfg!(feature = "transparency")
             && self.stages.transparency
             && material.transparency != S::ZERO
         {
-            let through = Ray::new(hit.point, ray.dir);
+            let through = Ray::with_length(hit.point, ray.dir, len);
             let behind = self.trace(&through, total, Some(index), depth + 1);
             c = c * (S::ONE - material.transparency) + material.filter.mul_each(behind);
         }
         c
     }
 
-    /// Ambient plus every light's contribution, before the division by distance.
+    /// Ambient plus every light's contribution, before the division by distance: the
+    /// course's order of operations.
     #[inline(never)]
     fn local(&self, surface: &Surface<'_, S>, index: usize, hit: &Hit<S>, eye: Vec3<S>) -> Vec3<S> {
         let mut c = surface.ambient;
@@ -223,6 +235,92 @@ impl<'s, S: Scalar> Shader<'s, S> {
         c
     }
 
+    /// Ambient plus every light's contribution, divided by the distance travelled, without
+    /// the course's square roots and with one division per light that shines: with `L` the
+    /// way to the light and `d = |L|`, the course's `cos / d` is `(L . n) / (L . L)`, and the
+    /// shadow ray runs along `L` itself to `t = 1`; the division by the distance travelled
+    /// joins it, `(L . n) / ((L . L) total)`, and the ambient term takes `1 / total` from
+    /// the same reciprocal. The quotients are formed in the type's wide numbers (see
+    /// [`Scalar::Wide`]).
+    #[inline(never)]
+    fn local_divided(
+        &self,
+        surface: &Surface<'_, S>,
+        index: usize,
+        hit: &Hit<S>,
+        ray: &Ray<S>,
+        total: S,
+    ) -> Vec3<S> {
+        let Some(total) = total.to_wide() else {
+            return Vec3::ZERO;
+        };
+        let mut c = Vec3::ZERO;
+        // `1 / total`, from the first light that shines here.
+        let mut per_total = None;
+        if self.stages.illumination {
+            for light in self.lights {
+                if let Some((lit, per)) = self.illuminate_divided(light, index, hit, ray, surface, total) {
+                    c = c + lit;
+                    per_total.get_or_insert(per);
+                }
+            }
+        }
+        if !surface.ambient.is_zero() {
+            let k = per_total.unwrap_or_else(|| S::wide_recip(total));
+            c = c + scaled(surface.ambient, k);
+        }
+        c
+    }
+
+    /// One light's diffuse and glint at a hit, divided by the distance travelled (`total`),
+    /// and `1 / total`; `None` when the light is behind the surface, outside a spotlight's
+    /// cone, or blocked by an opaque object.
+    fn illuminate_divided(
+        &self,
+        light: &Light<S>,
+        index: usize,
+        hit: &Hit<S>,
+        ray: &Ray<S>,
+        surface: &Surface<'_, S>,
+        total: S::Wide,
+    ) -> Option<(Vec3<S>, S::Wide)> {
+        let to_light = light.location - hit.point;
+        // cos > 0 and d > 0.
+        let cos_d = S::positive_dot(to_light, hit.normal)?;
+        let d_squared = S::positive_dot(to_light, to_light)?;
+        if let Some(spot) = light.spot.as_ref().filter(|_| cfg!(feature = "spotlight")) {
+            // unit(hit - location) is -unit(to_light).
+            if !S::within_cone(-to_light, spot.axis, spot.cos_theta) {
+                return None;
+            }
+        }
+        let mut lit = surface.diffuse.mul_each(light.diffuse_emissivity);
+        if cfg!(feature = "transparency") && self.stages.shadows && self.stages.filtered_shadows {
+            lit = lit.mul_each(self.shadow_filter(hit.point, to_light, S::ONE, index)?);
+        } else if self.stages.shadows {
+            let shadow = Ray::new(hit.point, to_light);
+            let (among, z) = (self.among, self.z_limit);
+            if any_hit_among(self.objects, among, &shadow, index, S::ONE, z) {
+                return None;
+            }
+        }
+        let r = S::wide_recip(S::wide_mul(d_squared, total));
+        let per_total = S::wide_mul(d_squared, r);
+        let mut c = scaled(lit, S::wide_mul(cos_d, r));
+        let material = surface.material;
+        if cfg!(feature = "glint") && self.stages.glints && material.shininess != S::ZERO {
+            let halfway = to_light
+                .unit()
+                .and_then(|l| (-ray.dir).unit().and_then(|v| (v + l).unit()));
+            if let Some(h) = halfway {
+                let glint = light.emissivity
+                    * (material.specular * h.dot(hit.normal).pow_positive(material.shininess));
+                c = c + scaled(glint, per_total);
+            }
+        }
+        Some((c, per_total))
+    }
+
     /// Walks from `from` towards a light `distance` away along `l`: `None` when an opaque
     /// object is in the way, else the product of the transparent objects' filters.
     fn shadow_filter(
@@ -264,6 +362,12 @@ impl<'s, S: Scalar> Shader<'s, S> {
         }
         None
     }
+}
+
+/// Each component times a wide number.
+#[inline]
+fn scaled<S: Scalar>(v: Vec3<S>, k: S::Wide) -> Vec3<S> {
+    Vec3::new(v.x.scale(k), v.y.scale(k), v.z.scale(k))
 }
 
 /// `dir - 2 (dir . n) n`.

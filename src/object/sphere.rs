@@ -44,8 +44,26 @@ impl<S: Scalar> Sphere<S> {
         })
     }
 
-    /// The near root of `|base + t dir - center|^2 = r^2` (unit `dir`); a miss when the
-    /// discriminant is not positive or the near root is not ahead of the ray.
+    /// The near root of `|base + t dir - center|^2 = r^2`; a miss when the discriminant is
+    /// not positive or the near root is not in `(0, limit)`.
+    ///
+    /// The root is found along the unit direction (see [`nearest_unit`](Self::nearest_unit)):
+    /// `f64` rays are unit rays; the other types' rays are divided by their length first,
+    /// and `t` by it after.
+    #[inline]
+    pub fn nearest(&self, ray: &Ray<S>, limit: S) -> Option<S> {
+        if S::COURSE_ORDER || ray.len == S::ONE {
+            return self.nearest_unit(ray.base, ray.dir, limit);
+        }
+        let len = ray.length();
+        if !(len > S::ZERO) {
+            return None;
+        }
+        let t = self.nearest_unit(ray.base, ray.dir / len, limit * len)?;
+        ahead(t / len, limit)
+    }
+
+    /// [`nearest`](Self::nearest) for a unit `dir`.
     ///
     /// With `f = base - center` and `b = f . dir`, the discriminant is taken in the
     /// perpendicular form `r^2 - |f - b dir|^2` (Haines et al., Ray Tracing Gems ch. 7), which
@@ -53,17 +71,15 @@ impl<S: Scalar> Sphere<S> {
     /// `q = -(b + sign(b) sqrt(disc))`, which does not subtract two close numbers. `c =
     /// |f|^2 - r^2` is evaluated as `(|f| - r)(|f| + r)` and divided by `q` before the second
     /// factor, so nothing is squared that could overflow a fixed-point type.
-    ///
-    /// `None` as well when the near root is not below `limit`.
     #[inline]
-    pub fn nearest(&self, ray: &Ray<S>, limit: S) -> Option<S> {
-        let f = ray.base - self.center;
-        let b = f.dot(ray.dir);
+    pub fn nearest_unit(&self, base: Vec3<S>, dir: Vec3<S>, limit: S) -> Option<S> {
+        let f = base - self.center;
+        let b = f.dot(dir);
         if b > S::ZERO {
             // Moving away from the centre: the near root is behind the base.
             return None;
         }
-        let perpendicular = f - ray.dir * b;
+        let perpendicular = f - dir * b;
         let discriminant = self.radius_squared - perpendicular.dot(perpendicular);
         if !(discriminant > S::ZERO) {
             return None;

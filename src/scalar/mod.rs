@@ -26,6 +26,19 @@ use crate::vec3::Vec3;
 use core::fmt;
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
+/// How a number type finds the camera's pixel positions `world * i / n` along a row.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PixelSteps {
+    /// Each as the course computes it: `world * i`, then the division by `n`.
+    Course,
+    /// `i` times the step `world / n`: one multiplication (within an ulp or two of the
+    /// course's).
+    Multiply,
+    /// From one to the next by the step's integer and fractional parts, exactly as the
+    /// course's formula gives them in a type with uniformly spaced values (fixed point).
+    Exact,
+}
+
 /// A real-number type the tracer can compute in.
 ///
 /// Implementations must not panic for any input: division by zero, the square root of a
@@ -68,6 +81,28 @@ pub trait Scalar:
     /// The spacing of the type's values just below 1, where the components of unit vectors
     /// lie: the finest difference in direction the type can hold (`2^-52`, `2^-23`, `2^-16`).
     const UNIT_STEP: f64;
+    /// Whether the type computes in the course's order of operations, so that its images
+    /// are the course's bit for bit (`f64`). The other types take cheaper formulations of
+    /// the same quantities where that order costs divisions and square roots (see
+    /// [`crate::shade`]); the parity tests bound what that costs in accuracy.
+    const COURSE_ORDER: bool;
+    /// How the camera finds the pixel positions `world * i / n` along a row.
+    const PIXEL_STEPS: PixelSteps;
+
+    /// A wider positive number for the shading's quotients (distances squared times
+    /// distances): the type itself for `f32` and `f64`, a 32-bit mantissa with an exponent
+    /// for fixed point, whose range ends at 32768.
+    type Wide: Copy + fmt::Debug + PartialEq;
+    /// `a . b` as a wide number, when it is above zero.
+    fn positive_dot(a: Vec3<Self>, b: Vec3<Self>) -> Option<Self::Wide>;
+    /// The value as a wide number, when it is above zero.
+    fn to_wide(self) -> Option<Self::Wide>;
+    /// The product of two wide numbers.
+    fn wide_mul(a: Self::Wide, b: Self::Wide) -> Self::Wide;
+    /// The reciprocal of a wide number.
+    fn wide_recip(a: Self::Wide) -> Self::Wide;
+    /// `self` times a wide number (saturated where the type's range ends).
+    fn scale(self, factor: Self::Wide) -> Self;
 
     /// The nearest value of this type (saturating where the type's range ends).
     fn from_f64(value: f64) -> Self;
@@ -141,6 +176,14 @@ pub trait Scalar:
         (q < limit).then_some(q)
     }
 
+    /// Whether `unit(v) . axis > cos` (a spotlight's cone, `axis` a unit vector): as the
+    /// course writes it, `v` divided by its length first. Fixed point compares
+    /// `v . axis > cos |v|` instead, which rounds less.
+    #[inline]
+    fn within_cone(v: Vec3<Self>, axis: Vec3<Self>, cos: Self) -> bool {
+        (v / v.length()).dot(axis) > cos
+    }
+
     /// Whether the value stands for something beyond the type's range: infinite or NaN for
     /// the float types, saturated for fixed point. A ray parameter like that is no hit.
     #[inline]
@@ -178,6 +221,30 @@ impl Scalar for f64 {
     // Squares of smaller lengths would leave the normal range.
     const MIN_FEATURE: f64 = 1e-150;
     const UNIT_STEP: f64 = f64::EPSILON;
+    const COURSE_ORDER: bool = true;
+    const PIXEL_STEPS: PixelSteps = PixelSteps::Course;
+    type Wide = f64;
+    #[inline]
+    fn positive_dot(a: Vec3<Self>, b: Vec3<Self>) -> Option<Self> {
+        let d = Self::dot(a, b);
+        (d > 0.0).then_some(d)
+    }
+    #[inline]
+    fn to_wide(self) -> Option<Self> {
+        (self > 0.0).then_some(self)
+    }
+    #[inline]
+    fn wide_mul(a: Self, b: Self) -> Self {
+        a * b
+    }
+    #[inline]
+    fn wide_recip(a: Self) -> Self {
+        1.0 / a
+    }
+    #[inline]
+    fn scale(self, factor: Self) -> Self {
+        self * factor
+    }
 
     #[inline]
     fn from_f64(value: f64) -> Self {
@@ -236,6 +303,30 @@ impl Scalar for f32 {
     // Squares of smaller lengths would leave the normal range.
     const MIN_FEATURE: f64 = 1e-18;
     const UNIT_STEP: f64 = f32::EPSILON as f64;
+    const COURSE_ORDER: bool = false;
+    const PIXEL_STEPS: PixelSteps = PixelSteps::Multiply;
+    type Wide = f32;
+    #[inline]
+    fn positive_dot(a: Vec3<Self>, b: Vec3<Self>) -> Option<Self> {
+        let d = Self::dot(a, b);
+        (d > 0.0).then_some(d)
+    }
+    #[inline]
+    fn to_wide(self) -> Option<Self> {
+        (self > 0.0).then_some(self)
+    }
+    #[inline]
+    fn wide_mul(a: Self, b: Self) -> Self {
+        a * b
+    }
+    #[inline]
+    fn wide_recip(a: Self) -> Self {
+        1.0 / a
+    }
+    #[inline]
+    fn scale(self, factor: Self) -> Self {
+        self * factor
+    }
 
     #[inline]
     fn from_f64(value: f64) -> Self {
@@ -299,6 +390,12 @@ impl Scalar for f32 {
     #[inline]
     fn quotient_below(num: Self, den: Self, limit: Self) -> Option<Self> {
         f32_quotient_below(num, den, limit)
+    }
+    /// One division and three products (the course's three divisions are for `f64`).
+    #[inline]
+    fn div_vec(v: Vec3<Self>, d: Self) -> Vec3<Self> {
+        let r = 1.0 / d;
+        Vec3::new(v.x * r, v.y * r, v.z * r)
     }
 }
 

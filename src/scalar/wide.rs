@@ -186,6 +186,122 @@ impl Divisor {
     }
 }
 
+/// The top 32 bits of a non-zero `u64` shifted left until its top bit is set, and the
+/// shift: `(top, zeros)` with `v << zeros = top 2^32 + ...`.
+#[inline]
+fn normalise_u64(v: u64) -> (u32, u32) {
+    let (high, low) = ((v >> 32) as u32, v as u32);
+    if high != 0 {
+        let zeros = high.leading_zeros();
+        // zeros < 32: the low word's top `zeros` bits move up.
+        let top = if zeros == 0 {
+            high
+        } else {
+            (high << zeros) | (low >> (32 - zeros))
+        };
+        (top, zeros)
+    } else {
+        let zeros = low.leading_zeros();
+        (low << zeros, 32 + zeros)
+    }
+}
+
+/// A positive number `mantissa 2^exponent` with a 32-bit mantissa whose top bit is set (or
+/// zero): the shading's intermediate products and quotients in fixed point, whose range
+/// (distances squared times distances) Q16.16 does not have. Every operation truncates to
+/// 32 significant bits (a relative error below 2^-31), the reciprocal to 2^-28.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Wide {
+    mantissa: u32,
+    exponent: i32,
+}
+
+impl Wide {
+    const ZERO: Self = Self {
+        mantissa: 0,
+        exponent: 0,
+    };
+
+    /// `value 2^exponent`.
+    #[inline]
+    pub(crate) fn from_u64(value: u64, exponent: i32) -> Self {
+        if value == 0 {
+            return Self::ZERO;
+        }
+        let (mantissa, zeros) = normalise_u64(value);
+        Self {
+            mantissa,
+            exponent: exponent.saturating_add(32 - zeros as i32),
+        }
+    }
+
+    /// The product.
+    #[inline]
+    pub(crate) fn mul(self, other: Self) -> Self {
+        if self.mantissa == 0 || other.mantissa == 0 {
+            return Self::ZERO;
+        }
+        // Both mantissas are in [2^31, 2^32): the product is in [2^62, 2^64).
+        let product = mul_u32(self.mantissa, other.mantissa);
+        let exponent = self.exponent.saturating_add(other.exponent);
+        if product >> 63 != 0 {
+            Self {
+                mantissa: (product >> 32) as u32,
+                exponent: exponent.saturating_add(32),
+            }
+        } else {
+            Self {
+                mantissa: (product >> 31) as u32,
+                exponent: exponent.saturating_add(31),
+            }
+        }
+    }
+
+    /// The reciprocal (of zero: the largest value there is).
+    #[inline]
+    pub(crate) fn recip(self) -> Self {
+        if self.mantissa == 0 {
+            return Self {
+                mantissa: u32::MAX,
+                exponent: i32::MAX / 2,
+            };
+        }
+        // 1 / (m 2^e) = (2^63 / m) 2^(-63 - e); the estimate of 2^63 / m is in [2^31, 2^32).
+        let estimate = reciprocal_estimate(self.mantissa).max(1 << 31);
+        Self {
+            mantissa: estimate,
+            exponent: (-63i32).saturating_sub(self.exponent),
+        }
+    }
+
+    /// `bits 2^-16 * self` in Q16.16 raw bits: `bits m 2^e`, truncated toward zero and
+    /// saturated.
+    #[inline]
+    pub(crate) fn scale_bits(self, bits: i32) -> i32 {
+        let magnitude = bits.unsigned_abs();
+        if magnitude == 0 || self.mantissa == 0 {
+            return 0;
+        }
+        // |bits| m is at least 2^31: with e >= 0 it saturates.
+        let saturated = if bits < 0 { i32::MIN } else { i32::MAX };
+        if self.exponent >= 0 {
+            return saturated;
+        }
+        let product = mul_u32(magnitude, self.mantissa);
+        let shifted = shr_u64(product, self.exponent.unsigned_abs());
+        match i32::try_from(shifted) {
+            Ok(v) if bits < 0 => -v,
+            Ok(v) => v,
+            Err(_) => saturated,
+        }
+    }
+
+    /// The value as an `f64` (tests and reports).
+    pub fn to_f64(self) -> f64 {
+        libm::ldexp(f64::from(self.mantissa), self.exponent)
+    }
+}
+
 /// `1 / sqrt(x)` for `x = (64 + i + 1/2) / 256` in Q2.30: the first guess of the reciprocal
 /// square root, `i` the table index (`x` in `[1/4, 1)`).
 #[allow(clippy::indexing_slicing)]

@@ -38,7 +38,10 @@ impl<S: Scalar> Iterator for RowRays<S> {
         let x = self.x.next_position();
         let dir = Vec3::new(x - self.eye.x, self.dy, self.dz);
         if S::COURSE_ORDER {
-            Some(dir.unit().map(|unit| Ray::with_length(self.eye, unit, S::ONE)))
+            Some(
+                dir.unit()
+                    .map(|unit| Ray::with_length(self.eye, unit, S::ONE)),
+            )
         } else {
             Some((!dir.is_zero()).then(|| Ray::new(self.eye, dir)))
         }
@@ -88,9 +91,9 @@ impl<S: Scalar> Positions<S> {
                 positions.bump = S::from_f64(resolution);
                 positions.remainder_step =
                     count(world.to_f64() - positions.step.to_f64() * n_f) as u32;
-                positions.remainder = count(
-                    world.to_f64() * f64::from(first) - positions.value.to_f64() * n_f,
-                ) as u32;
+                positions.remainder =
+                    count(world.to_f64() * f64::from(first) - positions.value.to_f64() * n_f)
+                        as u32;
             }
         }
         positions

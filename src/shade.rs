@@ -259,7 +259,9 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let mut per_total = None;
         if self.stages.illumination {
             for light in self.lights {
-                if let Some((lit, per)) = self.illuminate_divided(light, index, hit, ray, surface, total) {
+                if let Some((lit, per)) =
+                    self.illuminate_divided(light, index, hit, ray, surface, total)
+                {
                     c = c + lit;
                     per_total.get_or_insert(per);
                 }

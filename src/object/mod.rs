@@ -254,11 +254,12 @@ pub fn object_surface<'s, S: Scalar>(
     })
 }
 
-/// `t` if it is ahead of the ray (`t > 0`), within the type's range (a `t` that
-/// overflowed to infinity or saturated is no place on the ray) and below `limit`.
+/// `t` if it is ahead of the ray (`t > 0`) and below `limit`. Every limit is at most
+/// [`Scalar::UNBOUNDED`], so a `t` that overflowed to infinity, is NaN or saturated (no
+/// place on the ray) is not below it.
 #[inline]
 pub(crate) fn ahead<S: Scalar>(t: S, limit: S) -> Option<S> {
-    (t > S::ZERO && t < limit && !t.is_beyond_range()).then_some(t)
+    (t > S::ZERO && t < limit).then_some(t)
 }
 
 /// The nearest hit with `t > 0` among `objects`, skipping index `skip` (the object a ray

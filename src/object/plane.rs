@@ -1,6 +1,6 @@
 //! The infinite plane: the seed's `plane_t`, `plane_init`, `plane_hits` and `plane_print`.
 
-use super::{Hit, Object, ObjectVTable, Shape, ahead, object_material, object_surface};
+use super::{Hit, Object, ObjectVTable, Shape, object_material, object_surface};
 use crate::error::{Attr, Entity, ErrorKind};
 use crate::material::MaterialId;
 #[cfg(feature = "print")]
@@ -59,16 +59,10 @@ impl<S: Scalar> Plane<S> {
     #[inline]
     pub fn nearest(&self, ray: &Ray<S>, limit: S) -> Option<S> {
         let n_dot_dir = self.unit_normal.dot(ray.dir);
-        if n_dot_dir == S::ZERO {
-            return None;
-        }
         let distance = self.n_dot_point - self.unit_normal.dot(ray.base);
-        // t <= 0 unless both have the same sign: skip the division (the costliest step in
-        // fixed point) for planes behind the ray, and for planes beyond `limit`.
-        if (distance > S::ZERO) != (n_dot_dir > S::ZERO) || distance == S::ZERO {
-            return None;
-        }
-        ahead(S::quotient_below(distance, n_dot_dir, limit)?, limit)
+        // No division for planes behind the ray or beyond `limit`, nor when the ray is
+        // parallel (`N.dir == 0`).
+        S::parameter_within(distance, n_dot_dir, limit)
     }
 
     /// The nearest hit as a hit record.

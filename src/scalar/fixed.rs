@@ -16,8 +16,8 @@
 //! | [`Scalar::pow_positive`] | `exp2(e * log2(x))`, both bit by bit to 24 bits | within 0.8 of a step (2^-16) of the exact power for `x` in (0, 1], `e` up to 250 (measured: 0.76) |
 //! | [`Scalar::to_byte`] | `(bits * 255) >> 16` | exactly the f64 conversion of the same value |
 
-use super::wide::{Divisor, isqrt, mul_i32, mul_u32, shr_u64};
 pub use super::wide::Wide;
+use super::wide::{Divisor, isqrt, mul_i32, mul_u32, shr_u64};
 use super::{PixelSteps, Scalar};
 use crate::vec3::Vec3;
 use core::cmp::Ordering;
@@ -359,20 +359,22 @@ impl Scalar for I16F16 {
     fn within_cone(v: Vec3<Self>, axis: Vec3<Self>, cos: Self) -> bool {
         v.dot(axis) > cos * v.length()
     }
-    /// Exact without the division when the quotient is not below `limit`: for positive
-    /// `a / b` the truncated quotient `floor(a 2^16 / b)` (saturated) is at least `l` exactly
-    /// when `a 2^16 >= l b`, a 64-bit comparison.
+    /// Exact without the division when the quotient is not in `(0, limit)`: it is
+    /// negative when the signs differ, and for positive `a / b` the truncated quotient
+    /// `floor(a 2^16 / b)` (saturated) is at least `l` exactly when `a 2^16 >= l b`, a
+    /// 64-bit comparison.
     #[inline]
-    fn quotient_below(num: Self, den: Self, limit: Self) -> Option<Self> {
+    fn parameter_within(num: Self, den: Self, limit: Self) -> Option<Self> {
         let (a, b, l) = (num.to_bits(), den.to_bits(), limit.to_bits());
-        if l > 0 && a != 0 && b != 0 && (a > 0) == (b > 0) {
-            let scaled = u64::from(a.unsigned_abs()) << FRAC;
-            if scaled >= mul_u32(l as u32, b.unsigned_abs()) {
-                return None;
-            }
+        if a == 0 || b == 0 || (a ^ b) < 0 || l <= 0 {
+            return None;
+        }
+        let scaled = u64::from(a.unsigned_abs()) << FRAC;
+        if scaled >= mul_u32(l as u32, b.unsigned_abs()) {
+            return None;
         }
         let q = num / den;
-        (q < limit).then_some(q)
+        (q > Self::ZERO).then_some(q)
     }
     #[inline]
     fn length(v: Vec3<Self>) -> Self {

@@ -167,13 +167,15 @@ pub trait Scalar:
     fn recip(self) -> Self {
         Self::ONE / self
     }
-    /// `num / den`, exactly as `/` computes it, when that is below `limit`; `None` when it
-    /// is not. A type may tell without dividing: a plane behind the nearest hit so far
-    /// costs no division.
+    /// `num / den` when it lies in `(0, limit)`, a ray parameter that counts; `None` when
+    /// it does not. Types tell without dividing where they can: a plane behind the ray or
+    /// beyond the nearest hit so far costs no division. `f64` and fixed point decide
+    /// exactly as the division does; `f32` compares `num` with `den limit`, which can differ
+    /// from the rounded quotient by an ulp at a tie.
     #[inline]
-    fn quotient_below(num: Self, den: Self, limit: Self) -> Option<Self> {
+    fn parameter_within(num: Self, den: Self, limit: Self) -> Option<Self> {
         let q = num / den;
-        (q < limit).then_some(q)
+        (q > Self::ZERO && q < limit).then_some(q)
     }
 
     /// Whether `unit(v) . axis > cos` (a spotlight's cone, `axis` a unit vector): as the
@@ -284,9 +286,24 @@ impl Scalar for f64 {
     fn is_beyond_range(self) -> bool {
         !self.is_finite()
     }
+    /// Exact: the quotient is not computed when the signs differ (it is negative) or when
+    /// `|num| > |den| limit` by more than 16 units in the last place (it rounds to `limit`
+    /// or more: the quotient's and the product's roundings are one unit each).
     #[inline]
-    fn quotient_below(num: Self, den: Self, limit: Self) -> Option<Self> {
-        f64_quotient_below(num, den, limit)
+    fn parameter_within(num: Self, den: Self, limit: Self) -> Option<Self> {
+        if num == 0.0 || den == 0.0 || (num > 0.0) != (den > 0.0) {
+            return None;
+        }
+        if limit > 0.0 && limit.is_finite() {
+            let bound = den.abs() * limit;
+            // 16 units up: the bit pattern of a positive float is monotone in its value.
+            let slack = f64::from_bits(bound.to_bits() + 16);
+            if bound >= f64::MIN_POSITIVE && num.abs() > slack {
+                return None;
+            }
+        }
+        let q = num / den;
+        (q > 0.0 && q < limit).then_some(q)
     }
 }
 
@@ -356,27 +373,26 @@ impl Scalar for f32 {
     fn from_i32(value: i32) -> Self {
         value as f32
     }
-    /// Exact without `f64`: `v * 255` for `v` in (0, 1) is `mantissa * 255 * 2^exponent`,
-    /// and `mantissa * 255` fits 32 bits; truncating it is what the `f64` product gives.
+    /// Exact without `f64`, on the bits: `v * 255` for `v` in (0, 1) is `mantissa * 255 *
+    /// 2^exponent`, and `mantissa * 255` fits 32 bits; truncating it is what the `f64`
+    /// product gives. Negative values, zeros and NaN are 0.
     #[inline]
     fn to_byte(self) -> u8 {
-        if !(self > 0.0) {
+        let bits = self.to_bits() as i32;
+        if bits <= 0 {
             return 0;
         }
-        if self >= 1.0 {
-            return 255;
+        if bits >= 0x3f80_0000 {
+            // 1 or more, or a NaN (above infinity's bits).
+            return if bits <= 0x7f80_0000 { 255 } else { 0 };
         }
-        let bits = self.to_bits();
-        let exponent = (bits >> 23) as i32; // biased; below 127 for v < 1
-        let mantissa = (bits & 0x7f_ffff) | if exponent == 0 { 0 } else { 0x80_0000 };
-        // v = mantissa * 2^(exponent - 150) (subnormals: exponent 1); shift is 24 or more.
-        let shift = 150 - exponent.max(1);
-        let product = mantissa * 255;
+        // v = mantissa 2^(exponent - 150): the shift is 24 or more; below 2^-8, v * 255 < 1.
+        let shift = 150 - (bits >> 23) as u32;
         if shift >= 32 {
-            0
-        } else {
-            (product >> shift) as u8
+            return 0;
         }
+        let mantissa = (bits as u32 & 0x7f_ffff) | 0x80_0000;
+        ((mantissa * 255) >> shift) as u8
     }
     #[cfg(feature = "print")]
     fn write_shortest(self, out: &mut dyn fmt::Write) -> fmt::Result {
@@ -387,9 +403,21 @@ impl Scalar for f32 {
     fn is_beyond_range(self) -> bool {
         !self.is_finite()
     }
+    /// `num` against `den limit` first: one product and three comparisons instead of
+    /// the division, for parameters that do not count.
     #[inline]
-    fn quotient_below(num: Self, den: Self, limit: Self) -> Option<Self> {
-        f32_quotient_below(num, den, limit)
+    fn parameter_within(num: Self, den: Self, limit: Self) -> Option<Self> {
+        let bound = den * limit;
+        let within = if den > 0.0 {
+            num > 0.0 && num < bound
+        } else {
+            num < 0.0 && num > bound
+        };
+        if !within {
+            return None;
+        }
+        let q = num / den;
+        (q > 0.0 && q < limit).then_some(q)
     }
     /// One division and three products (the course's three divisions are for `f64`).
     #[inline]
@@ -398,32 +426,6 @@ impl Scalar for f32 {
         Vec3::new(v.x * r, v.y * r, v.z * r)
     }
 }
-
-/// [`Scalar::quotient_below`] for `f32` and `f64`: when `num` and `den` have the same sign
-/// and `limit` is finite, `|num| > |den| limit` by more than 16 units in the last place
-/// means the rounded quotient is at least `limit` (the quotient's and the product's
-/// roundings are 1 unit each), so it is not computed. A product that is subnormal,
-/// infinite or NaN decides nothing.
-macro_rules! float_quotient_below {
-    ($name:ident, $float:ty) => {
-        #[inline]
-        fn $name(num: $float, den: $float, limit: $float) -> Option<$float> {
-            let same_sign = (num > 0.0) == (den > 0.0);
-            if same_sign && limit > 0.0 && limit.is_finite() {
-                let bound = den.abs() * limit;
-                // 16 units up: the bit pattern of a positive float is monotone in its value.
-                let slack = <$float>::from_bits(bound.to_bits() + 16);
-                if bound >= <$float>::MIN_POSITIVE && num.abs() > slack {
-                    return None;
-                }
-            }
-            let q = num / den;
-            (q < limit).then_some(q)
-        }
-    };
-}
-float_quotient_below!(f32_quotient_below, f32);
-float_quotient_below!(f64_quotient_below, f64);
 
 /// `f32` square root: the FPU's VSQRT where the target has one (Cortex-M4F/M7 with the
 /// hard-float ABI), `libm` elsewhere. Both are IEEE square roots, correctly rounded, so the
@@ -643,6 +645,22 @@ mod tests {
         }
         for bits in (0..0x3f80_0000u32).step_by(997) {
             let v = f32::from_bits(bits);
+            assert_eq!(Scalar::to_byte(v), Scalar::to_byte(f64::from(v)), "{v:e}");
+        }
+        // Above 1, negative, infinite and NaN values.
+        for v in [
+            1.0f32,
+            1.5,
+            f32::MAX,
+            f32::INFINITY,
+            -f32::INFINITY,
+            f32::NAN,
+            -f32::NAN,
+            -0.0,
+            -0.5,
+            f32::MIN_POSITIVE,
+            1e-45,
+        ] {
             assert_eq!(Scalar::to_byte(v), Scalar::to_byte(f64::from(v)), "{v:e}");
         }
     }

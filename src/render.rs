@@ -22,6 +22,7 @@
 use crate::camera::Camera;
 use crate::object::Among;
 use crate::plan::Plan;
+use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::scene::Scene;
 use crate::shade::Shader;
@@ -221,20 +222,10 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
     /// check that a number type makes no object appear or vanish.
     pub fn object_at(&self, x: u16, row: u16) -> Option<usize> {
         let objects = self.row_objects(row);
-        self.object_among(&self.shader(), x, row, among(&objects))
-    }
-
-    fn object_among(
-        &self,
-        shader: &Shader<'_, S>,
-        x: u16,
-        row: u16,
-        among: Among<'_>,
-    ) -> Option<usize> {
         let y = self.camera.height().saturating_sub(1).saturating_sub(row);
         self.camera
             .primary_ray(x, y)
-            .and_then(|ray| shader.first_object_among(&ray, among))
+            .and_then(|ray| self.shader().first_object_among(&ray, among(&objects)))
     }
 
     /// The colour at pixel `(x, row)`, `row` 0 the top. Rendering a whole row through
@@ -242,16 +233,19 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
     /// pixel.
     pub fn pixel(&self, x: u16, row: u16) -> Rgb888 {
         let objects = self.row_objects(row);
-        self.pixel_among(&self.shader(), x, row, among(&objects))
+        let y = self.camera.height().saturating_sub(1).saturating_sub(row);
+        self.color(&self.shader(), self.camera.primary_ray(x, y), among(&objects))
     }
 
-    fn pixel_among(&self, shader: &Shader<'_, S>, x: u16, row: u16, among: Among<'_>) -> Rgb888 {
+    /// The colour seen along a primary ray (black without one).
+    #[inline]
+    fn color(&self, shader: &Shader<'_, S>, ray: Option<Ray<S>>, among: Among<'_>) -> Rgb888 {
         match self.shading {
             Shading::Color => {
-                let c = self.radiance_among(shader, x, row, among);
+                let c = ray.map_or(Vec3::ZERO, |ray| shader.primary_among(&ray, among));
                 Rgb888::new(c.x.to_byte(), c.y.to_byte(), c.z.to_byte())
             }
-            Shading::Ids => id_color(self.object_among(shader, x, row, among)),
+            Shading::Ids => id_color(ray.and_then(|ray| shader.first_object_among(&ray, among))),
         }
     }
 
@@ -284,8 +278,10 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
             let y = top.saturating_add(done - 1);
             let objects = self.row_objects(y);
             let among = among(&objects);
-            for (x, slot) in (left..).zip(row.iter_mut()) {
-                *slot = self.pixel_among(&shader, x, y, among).into();
+            let camera_y = self.camera.height().saturating_sub(1).saturating_sub(y);
+            let rays = self.camera.row_rays(camera_y, left);
+            for (slot, ray) in row.iter_mut().zip(rays) {
+                *slot = self.color(&shader, ray, among).into();
             }
             let line = Rectangle::new(
                 Point::new(area.top_left.x, i32::from(y)),

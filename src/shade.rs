@@ -79,7 +79,12 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// The colour seen along a primary ray that can only hit the objects `among` (its
     /// row's list); the rays it spawns test every object the shader tests.
     pub fn primary_among(&self, ray: &Ray<S>, among: Among<'_>) -> Vec3<S> {
-        self.trace_among(ray, among, S::ZERO, None, 0)
+        // Nothing travelled yet: no bound to check.
+        let found = closest_hit_among(self.objects, among, ray, None, S::UNBOUNDED, self.z_limit);
+        match found {
+            Some((index, t)) => self.shade(ray, index, t, S::ZERO, 0),
+            None => Vec3::ZERO,
+        }
     }
 
     /// The index of the object a primary ray sees first, if any (the object-id view).
@@ -118,14 +123,20 @@ impl<'s, S: Scalar> Shader<'s, S> {
             S::UNBOUNDED,
             self.z_limit,
         );
-        let Some((index, t)) = found else {
-            return Vec3::ZERO;
-        };
+        match found {
+            Some((index, t)) => self.shade(ray, index, t, total, depth),
+            None => Vec3::ZERO,
+        }
+    }
+
+    /// The colour where `ray`, having come `total` so far, meets object `index` at `t`:
+    /// the object's own light, then what its mirror and its transparency let through.
+    #[inline(never)]
+    fn shade(&self, ray: &Ray<S>, index: usize, t: S, total: S, depth: u8) -> Vec3<S> {
         let Some(object) = self.objects.get(index) else {
             return Vec3::ZERO;
         };
-        let hit = object.hit_at(ray, t);
-        let Some(surface) = object.surface(&self.palette, &hit) else {
+        let Some(surface) = object.surface(&self.palette, ray, t) else {
             return Vec3::ZERO;
         };
         // The distance travelled: `t` for the unit rays of f64, `t |dir|` otherwise.
@@ -137,11 +148,11 @@ impl<'s, S: Scalar> Shader<'s, S> {
         };
         let total = total + travelled;
         let mut c = if S::COURSE_ORDER {
-            self.local(&surface, index, &hit, ray.base) / total
+            self.local(&surface, index, ray.base) / total
         } else {
-            self.local_divided(&surface, index, &hit, ray, total)
+            self.local_divided(&surface, index, ray, total)
         };
-        let material = surface.material;
+        let (hit, material) = (&surface.hit, surface.material);
         // `cfg!`: a build without the feature has no such materials (they fail to load), and
         // the compiler drops the code.
         if cfg!(feature = "reflection") && self.stages.reflection && material.specular != S::ZERO {
@@ -162,7 +173,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// Ambient plus every light's contribution, before the division by distance: the
     /// course's order of operations.
     #[inline(never)]
-    fn local(&self, surface: &Surface<'_, S>, index: usize, hit: &Hit<S>, eye: Vec3<S>) -> Vec3<S> {
+    fn local(&self, surface: &Surface<'_, S>, index: usize, eye: Vec3<S>) -> Vec3<S> {
+        let hit = &surface.hit;
         let mut c = surface.ambient;
         if !self.stages.illumination {
             return c;
@@ -247,7 +259,6 @@ impl<'s, S: Scalar> Shader<'s, S> {
         &self,
         surface: &Surface<'_, S>,
         index: usize,
-        hit: &Hit<S>,
         ray: &Ray<S>,
         total: S,
     ) -> Vec3<S> {
@@ -259,33 +270,36 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let mut per_total = None;
         if self.stages.illumination {
             for light in self.lights {
-                if let Some((lit, per)) =
-                    self.illuminate_divided(light, index, hit, ray, surface, total)
+                if let Some(per) = self.illuminate_divided(light, index, ray, surface, total, &mut c)
                 {
-                    c = c + lit;
                     per_total.get_or_insert(per);
                 }
             }
         }
         if !surface.ambient.is_zero() {
-            let k = per_total.unwrap_or_else(|| S::wide_recip(total));
+            let k = match per_total {
+                Some(k) => k,
+                None => reciprocal::<S>(total),
+            };
             c = c + scaled(surface.ambient, k);
         }
         c
     }
 
-    /// One light's diffuse and glint at a hit, divided by the distance travelled (`total`),
-    /// and `1 / total`; `None` when the light is behind the surface, outside a spotlight's
-    /// cone, or blocked by an opaque object.
+    /// Adds one light's diffuse and glint at a hit, divided by the distance travelled
+    /// (`total`), to `c`, and returns `1 / total`; `None` when the light is behind the
+    /// surface, outside a spotlight's cone, or blocked by an opaque object.
+    #[inline(never)]
     fn illuminate_divided(
         &self,
         light: &Light<S>,
         index: usize,
-        hit: &Hit<S>,
         ray: &Ray<S>,
         surface: &Surface<'_, S>,
         total: S::Wide,
-    ) -> Option<(Vec3<S>, S::Wide)> {
+        c: &mut Vec3<S>,
+    ) -> Option<S::Wide> {
+        let hit = &surface.hit;
         let to_light = light.location - hit.point;
         // cos > 0 and d > 0.
         let cos_d = S::positive_dot(to_light, hit.normal)?;
@@ -308,7 +322,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         }
         let r = S::wide_recip(S::wide_mul(d_squared, total));
         let per_total = S::wide_mul(d_squared, r);
-        let mut c = scaled(lit, S::wide_mul(cos_d, r));
+        *c = *c + scaled(lit, S::wide_mul(cos_d, r));
         let material = surface.material;
         if cfg!(feature = "glint") && self.stages.glints && material.shininess != S::ZERO {
             let halfway = to_light
@@ -317,10 +331,10 @@ impl<'s, S: Scalar> Shader<'s, S> {
             if let Some(h) = halfway {
                 let glint = light.emissivity
                     * (material.specular * h.dot(hit.normal).pow_positive(material.shininess));
-                c = c + scaled(glint, per_total);
+                *c = *c + scaled(glint, per_total);
             }
         }
-        Some((c, per_total))
+        Some(per_total)
     }
 
     /// Walks from `from` towards a light `distance` away along `l`: `None` when an opaque
@@ -364,6 +378,13 @@ impl<'s, S: Scalar> Shader<'s, S> {
         }
         None
     }
+}
+
+/// `1 / total` where no light shone (out of line: the division is not worth speculating).
+#[cold]
+#[inline(never)]
+fn reciprocal<S: Scalar>(total: S::Wide) -> S::Wide {
+    S::wide_recip(total)
 }
 
 /// Each component times a wide number.

@@ -1,8 +1,8 @@
 //! The finite plane (`fplane`): a rectangle on a plane, and the in-plane axes that the tiled
 //! and textured planes share.
 
-use super::plane::plane_normal;
-use super::{Hit, Object, ObjectVTable, Shape, object_material, object_surface};
+use super::plane::{plane_normal, plane_surface};
+use super::{Hit, Object, ObjectVTable, Shape, object_material};
 use crate::error::{Attr, Entity, ErrorKind};
 use crate::material::MaterialId;
 use crate::object::plane::{Plane, PlaneDef};
@@ -142,7 +142,7 @@ impl<S: Scalar> Rect<S> {
         #[cfg(feature = "print")]
         printer: fplane_print,
         material: object_material,
-        surface: object_surface,
+        surface: plane_surface,
     };
 }
 

@@ -66,10 +66,13 @@ impl<'s, S: Scalar> Palette<'s, S> {
     }
 }
 
-/// What shading needs of a surface at a hit: the material in effect there, and the ambient
-/// and diffuse reflectivity (the material's, times a texel on textured planes).
+/// What shading needs of a surface at a hit: the hit record, the material in effect there,
+/// and the ambient and diffuse reflectivity (the material's, times a texel on textured
+/// planes).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Surface<'s, S> {
+    /// Where the ray meets the surface.
+    pub hit: Hit<S>,
     /// The material in effect at the hit (mirror, glint and transparency come from it).
     pub material: &'s Material<S>,
     /// Ambient reflectivity.
@@ -80,12 +83,12 @@ pub struct Surface<'s, S> {
 
 /// The surface look-up of a kind (see [`ObjectVTable::surface`]).
 pub type SurfaceLookup<S> =
-    for<'s> fn(&Object<S>, &Palette<'s, S>, &Hit<S>) -> Option<Surface<'s, S>>;
+    for<'s> fn(&Object<S>, &Palette<'s, S>, &Ray<S>, S) -> Option<Surface<'s, S>>;
 
 /// The function table of an object kind: the C `object_t`'s function pointers.
 ///
-/// The hot path makes one `hits` call per object a ray is tested against, and one `normal`
-/// and one `surface` call for the object it meets first.
+/// The hot path makes one `hits` call per object a ray is tested against, and one `surface`
+/// call for the object it meets first.
 #[derive(Debug)]
 pub struct ObjectVTable<S: Scalar> {
     /// The kind, for the printer's keyword.
@@ -102,8 +105,9 @@ pub struct ObjectVTable<S: Scalar> {
     pub printer: fn(&Object<S>, &Palette<'_, S>, &mut dyn fmt::Write) -> fmt::Result,
     /// The material in effect at a point (the tiled plane's checkerboard overrides it).
     pub material: fn(&Object<S>, Vec3<S>) -> MaterialId,
-    /// The surface at a hit: the C `ambient`, `diffuse` and `specular` look-ups in one call
-    /// (the textured plane multiplies ambient and diffuse by its texel).
+    /// The surface where a ray meets the object at the `t` that `hits` found: the hit
+    /// record (point and normal) and the C `ambient`, `diffuse` and `specular` look-ups, in
+    /// one call (the textured plane multiplies ambient and diffuse by its texel).
     pub surface: SurfaceLookup<S>,
 }
 
@@ -190,10 +194,16 @@ impl<S: Scalar> Object<S> {
     pub fn material_at(&self, point: Vec3<S>) -> MaterialId {
         (self.vtable.material)(self, point)
     }
-    /// The surface at a hit: material, ambient and diffuse reflectivity.
+    /// The surface where `ray` meets the object at `t`: hit record, material, ambient and
+    /// diffuse reflectivity.
     #[inline]
-    pub fn surface<'s>(&self, palette: &Palette<'s, S>, hit: &Hit<S>) -> Option<Surface<'s, S>> {
-        (self.vtable.surface)(self, palette, hit)
+    pub fn surface<'s>(
+        &self,
+        palette: &Palette<'s, S>,
+        ray: &Ray<S>,
+        t: S,
+    ) -> Option<Surface<'s, S>> {
+        (self.vtable.surface)(self, palette, ray, t)
     }
 
     /// The object's kind.
@@ -239,15 +249,33 @@ pub fn object_material<S: Scalar>(obj: &Object<S>, _: Vec3<S>) -> MaterialId {
     obj.material
 }
 
-/// The default surface look-up (the C `material_getamb`, `_getdiff`, `_getspec`): the
-/// material in effect at the hit, and its colours.
+/// The surface look-up of the kinds that show their own material (the C
+/// `material_getamb`, `_getdiff`, `_getspec`): the hit record with the kind's normal
+/// function, and the material's colours.
+#[inline]
 pub fn object_surface<'s, S: Scalar>(
     obj: &Object<S>,
     palette: &Palette<'s, S>,
-    hit: &Hit<S>,
+    ray: &Ray<S>,
+    t: S,
+    normal: fn(&Object<S>, Vec3<S>) -> Vec3<S>,
 ) -> Option<Surface<'s, S>> {
-    let material = palette.material(obj.material_at(hit.point))?;
+    let point = ray.at(t);
+    surface_of(
+        Hit {
+            t,
+            point,
+            normal: normal(obj, point),
+        },
+        palette.material(obj.material)?,
+    )
+}
+
+/// A surface showing `material` at `hit`.
+#[inline]
+pub fn surface_of<'s, S: Scalar>(hit: Hit<S>, material: &'s Material<S>) -> Option<Surface<'s, S>> {
     Some(Surface {
+        hit,
         material,
         ambient: material.ambient,
         diffuse: material.diffuse,

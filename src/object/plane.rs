@@ -1,6 +1,8 @@
 //! The infinite plane: the seed's `plane_t`, `plane_init`, `plane_hits` and `plane_print`.
 
-use super::{Hit, Object, ObjectVTable, Shape, object_material, object_surface};
+use super::{
+    Hit, Object, ObjectVTable, Palette, Shape, Surface, object_material, object_surface,
+};
 use crate::error::{Attr, Entity, ErrorKind};
 use crate::material::MaterialId;
 #[cfg(feature = "print")]
@@ -89,7 +91,7 @@ impl<S: Scalar> Plane<S> {
         #[cfg(feature = "print")]
         printer: plane_print,
         material: object_material,
-        surface: object_surface,
+        surface: plane_surface,
     };
 }
 
@@ -114,6 +116,16 @@ pub fn plane_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>, limit: S) -> Option<
         Shape::Plane(plane) => plane.nearest(ray, limit),
         _ => None,
     }
+}
+
+/// `surface` of the plane and the finite plane: the unit normal, the object's material.
+pub fn plane_surface<'s, S: Scalar>(
+    obj: &Object<S>,
+    palette: &Palette<'s, S>,
+    ray: &Ray<S>,
+    t: S,
+) -> Option<Surface<'s, S>> {
+    object_surface(obj, palette, ray, t, plane_normal)
 }
 
 /// `normal` of the plane kinds: the unit normal, everywhere.

@@ -1,6 +1,6 @@
 //! The sphere.
 
-use super::{Object, ObjectVTable, Shape, ahead, object_material, object_surface};
+use super::{Object, ObjectVTable, Palette, Shape, Surface, ahead, object_material, object_surface};
 use crate::error::{Attr, Entity, ErrorKind};
 use crate::material::MaterialId;
 #[cfg(feature = "print")]
@@ -106,7 +106,7 @@ impl<S: Scalar> Sphere<S> {
         #[cfg(feature = "print")]
         printer: sphere_print,
         material: object_material,
-        surface: object_surface,
+        surface: sphere_surface,
     };
 }
 
@@ -131,6 +131,16 @@ pub fn sphere_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>, limit: S) -> Option
         Shape::Sphere(sphere) => sphere.nearest(ray, limit),
         _ => None,
     }
+}
+
+/// `surface` of a sphere: its normal, its material.
+pub fn sphere_surface<'s, S: Scalar>(
+    obj: &Object<S>,
+    palette: &Palette<'s, S>,
+    ray: &Ray<S>,
+    t: S,
+) -> Option<Surface<'s, S>> {
+    object_surface(obj, palette, ray, t, sphere_normal)
 }
 
 /// `normal` of a sphere.

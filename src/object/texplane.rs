@@ -1,8 +1,8 @@
 //! The textured plane: a rectangle whose ambient and diffuse colours are multiplied by an
 //! image.
 
-use super::plane::plane_normal;
-use super::{Hit, Object, ObjectVTable, Palette, Shape, Surface, object_material, object_surface};
+use super::plane::{plane_normal, plane_surface};
+use super::{Hit, Object, ObjectVTable, Palette, Shape, Surface, object_material};
 use crate::error::{Entity, ErrorKind};
 use crate::material::MaterialId;
 use crate::object::fplane::{Rect, RectDef};
@@ -110,13 +110,14 @@ pub fn texplane_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>, limit: S) -> Opti
 pub fn texplane_surface<'s, S: Scalar>(
     obj: &Object<S>,
     palette: &Palette<'s, S>,
-    hit: &Hit<S>,
+    ray: &Ray<S>,
+    t: S,
 ) -> Option<Surface<'s, S>> {
-    let surface = object_surface(obj, palette, hit)?;
+    let surface = plane_surface(obj, palette, ray, t)?;
     let Shape::TexPlane(textured) = obj.shape() else {
         return Some(surface);
     };
-    let texel = textured.texel(palette, hit);
+    let texel = textured.texel(palette, &surface.hit);
     Some(Surface {
         ambient: surface.ambient.mul_each(texel),
         diffuse: surface.diffuse.mul_each(texel),
@@ -182,8 +183,8 @@ mod tests {
         );
         let obj: Object<f64> = texplane_init("w", 1, &def, 0, TextureMode::Fit, 1.0).unwrap();
         let look = |x: f64, y: f64| {
-            let hit = obj.hit(&ray([x, y, 0.0], [0.0, 0.0, -1.0])).unwrap();
-            let surface = obj.surface(&palette, &hit).unwrap();
+            let r = ray([x, y, 0.0], [0.0, 0.0, -1.0]);
+            let surface = obj.surface(&palette, &r, obj.hits(&r, f64::INFINITY).unwrap()).unwrap();
             (surface.ambient, surface.diffuse)
         };
         let k = 255.0 / 256.0;

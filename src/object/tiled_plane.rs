@@ -1,7 +1,7 @@
 //! The tiled plane: an infinite checkerboard of two materials.
 
 use super::plane::plane_normal;
-use super::{Object, ObjectVTable, Shape, object_surface};
+use super::{Hit, Object, ObjectVTable, Palette, Shape, Surface, surface_of};
 use crate::error::{Entity, ErrorKind};
 use crate::material::MaterialId;
 use crate::object::fplane::{Rect, RectDef};
@@ -77,7 +77,7 @@ impl<S: Scalar> TiledPlane<S> {
         #[cfg(feature = "print")]
         printer: tiled_plane_print,
         material: tiled_plane_material,
-        surface: object_surface,
+        surface: tiled_plane_surface,
     };
 }
 
@@ -112,6 +112,22 @@ pub fn tiled_plane_material<S: Scalar>(obj: &Object<S>, point: Vec3<S>) -> Mater
         Shape::TiledPlane(tiled) if tiled.is_alternate(point) => tiled.altmaterial,
         _ => obj.material(),
     }
+}
+
+/// `surface` of a tiled plane: the plane's normal, the material of the tile.
+pub fn tiled_plane_surface<'s, S: Scalar>(
+    obj: &Object<S>,
+    palette: &Palette<'s, S>,
+    ray: &Ray<S>,
+    t: S,
+) -> Option<Surface<'s, S>> {
+    let point = ray.at(t);
+    let hit = Hit {
+        t,
+        point,
+        normal: plane_normal(obj, point),
+    };
+    surface_of(hit, palette.material(tiled_plane_material(obj, point))?)
 }
 
 /// `printer` of a tiled plane.
@@ -167,10 +183,10 @@ mod tests {
         };
         // u = (1,0,0), v = n x u = (0,0,-1): q = (x, -z).
         let at = |x: f64, z: f64| {
-            let hit = obj.hit(&ray([x, 1.0, z], [0.0, -1.0, 0.0])).unwrap();
-            let surface = obj.surface(&palette, &hit).unwrap();
+            let r = ray([x, 1.0, z], [0.0, -1.0, 0.0]);
+            let surface = obj.surface(&palette, &r, obj.hits(&r, f64::INFINITY).unwrap()).unwrap();
             (
-                obj.material_at(hit.point),
+                obj.material_at(surface.hit.point),
                 surface.ambient,
                 surface.material.specular,
             )

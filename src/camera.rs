@@ -2,6 +2,7 @@
 
 use crate::error::{Attr, ErrorKind};
 use crate::name::{Name, bounded};
+use crate::object::RowOrigin;
 #[cfg(feature = "print")]
 use crate::print;
 use crate::ray::Ray;
@@ -24,6 +25,20 @@ pub struct RowRays<S> {
     dz: S,
     x: Positions<S>,
     left: u16,
+}
+
+impl<S: Scalar> RowRays<S> {
+    /// What every ray of the row shares, for the kinds' row tests (see
+    /// [`crate::object::RowTest`]): the eye and the direction's `y` and `z`. Only the types
+    /// that do not normalise primary rays keep `y` and `z` along a row.
+    pub fn origin(&self, z_limit: S) -> RowOrigin<S> {
+        RowOrigin {
+            eye: self.eye,
+            dy: self.dy,
+            dz: self.dz,
+            z_limit,
+        }
+    }
 }
 
 impl<S: Scalar> Iterator for RowRays<S> {

@@ -19,8 +19,8 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-use crate::camera::Camera;
-use crate::object::Among;
+use crate::camera::{Camera, RowRays};
+use crate::object::{Among, RowEntry};
 use crate::plan::Plan;
 use crate::ray::Ray;
 use crate::scalar::Scalar;
@@ -234,7 +234,11 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
     pub fn pixel(&self, x: u16, row: u16) -> Rgb888 {
         let objects = self.row_objects(row);
         let y = self.camera.height().saturating_sub(1).saturating_sub(row);
-        self.color(&self.shader(), self.camera.primary_ray(x, y), among(&objects))
+        self.color(
+            &self.shader(),
+            self.camera.primary_ray(x, y),
+            among(&objects),
+        )
     }
 
     /// The colour seen along a primary ray (black without one).
@@ -243,10 +247,49 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
         match self.shading {
             Shading::Color => {
                 let c = ray.map_or(Vec3::ZERO, |ray| shader.primary_among(&ray, among));
-                Rgb888::new(c.x.to_byte(), c.y.to_byte(), c.z.to_byte())
+                bytes(c)
             }
             Shading::Ids => id_color(ray.and_then(|ray| shader.first_object_among(&ray, among))),
         }
+    }
+
+    /// [`color`](Self::color) for a primary ray of a row whose objects' tests are prepared.
+    #[inline]
+    fn color_in_row(
+        &self,
+        shader: &Shader<'_, S>,
+        ray: Option<Ray<S>>,
+        row: &[RowEntry<S>],
+    ) -> Rgb888 {
+        match self.shading {
+            Shading::Color => {
+                let c = ray.map_or(Vec3::ZERO, |ray| shader.primary_in_row(&ray, row));
+                bytes(c)
+            }
+            Shading::Ids => id_color(ray.and_then(|ray| shader.first_object_in_row(&ray, row))),
+        }
+    }
+
+    /// The plan's objects for a row (`camera_y`, 0 the bottom), each with its kind's test of
+    /// the row's primary rays; `None` without a plan.
+    fn row_tests(
+        &self,
+        camera_y: u16,
+        rays: &RowRays<S>,
+    ) -> Option<heapless::Vec<RowEntry<S>, OBJECTS>> {
+        if !self.planned {
+            return None;
+        }
+        let origin = rays.origin(self.shader.z_limit());
+        let mut tests = heapless::Vec::new();
+        for index in self.plan.objects_in_row(camera_y) {
+            if let Some(object) = self.shader.objects().get(usize::from(index)) {
+                let test = object.row_test(&origin);
+                // Cannot fail: the row holds at most the plan's objects.
+                let _ = tests.push(RowEntry { index, test });
+            }
+        }
+        Some(tests)
     }
 
     /// Renders `area` (clipped to the image) into `target` at the same coordinates, one
@@ -276,12 +319,19 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
         let shader = self.shader();
         for done in 1..=total {
             let y = top.saturating_add(done - 1);
-            let objects = self.row_objects(y);
-            let among = among(&objects);
             let camera_y = self.camera.height().saturating_sub(1).saturating_sub(y);
             let rays = self.camera.row_rays(camera_y, left);
-            for (slot, ray) in row.iter_mut().zip(rays) {
-                *slot = self.color(&shader, ray, among).into();
+            match self.row_tests(camera_y, &rays) {
+                Some(tests) => {
+                    for (slot, ray) in row.iter_mut().zip(rays) {
+                        *slot = self.color_in_row(&shader, ray, &tests).into();
+                    }
+                }
+                None => {
+                    for (slot, ray) in row.iter_mut().zip(rays) {
+                        *slot = self.color(&shader, ray, Among::All).into();
+                    }
+                }
             }
             let line = Rectangle::new(
                 Point::new(area.top_left.x, i32::from(y)),
@@ -302,6 +352,12 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
         }
         Ok(Rendered::Complete)
     }
+}
+
+/// A colour's channel bytes.
+#[inline]
+fn bytes<S: Scalar>(c: Vec3<S>) -> Rgb888 {
+    Rgb888::new(c.x.to_byte(), c.y.to_byte(), c.z.to_byte())
 }
 
 /// A row's list as the closest-hit search takes it.

@@ -20,7 +20,8 @@
 
 use crate::light::Light;
 use crate::object::{
-    Among, Hit, Object, Palette, Surface, Z_LIMIT, any_hit_among, closest_hit_among,
+    Among, Hit, Object, Palette, RowEntry, Surface, Z_LIMIT, any_hit_among, closest_hit_among,
+    closest_hit_in_row,
 };
 use crate::plan::Stages;
 use crate::ray::Ray;
@@ -85,6 +86,31 @@ impl<'s, S: Scalar> Shader<'s, S> {
             Some((index, t)) => self.shade(ray, index, t, S::ZERO, 0),
             None => Vec3::ZERO,
         }
+    }
+
+    /// [`primary_among`](Self::primary_among) for a primary ray of a row whose objects'
+    /// tests were prepared (see [`crate::object::RowTest`]).
+    pub fn primary_in_row(&self, ray: &Ray<S>, row: &[RowEntry<S>]) -> Vec3<S> {
+        match closest_hit_in_row(self.objects, row, ray, self.z_limit) {
+            Some((index, t)) => self.shade(ray, index, t, S::ZERO, 0),
+            None => Vec3::ZERO,
+        }
+    }
+
+    /// [`first_object_among`](Self::first_object_among) for a primary ray of a row whose
+    /// objects' tests were prepared.
+    pub fn first_object_in_row(&self, ray: &Ray<S>, row: &[RowEntry<S>]) -> Option<usize> {
+        closest_hit_in_row(self.objects, row, ray, self.z_limit).map(|(index, _)| index)
+    }
+
+    /// The scene's objects.
+    pub fn objects(&self) -> &'s [Object<S>] {
+        self.objects
+    }
+
+    /// The scene's z limit (see [`crate::object::closest_hit`]).
+    pub fn z_limit(&self) -> S {
+        self.z_limit
     }
 
     /// The index of the object a primary ray sees first, if any (the object-id view).
@@ -254,7 +280,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// joins it, `(L . n) / ((L . L) total)`, and the ambient term takes `1 / total` from
     /// the same reciprocal. The quotients are formed in the type's wide numbers (see
     /// [`Scalar::Wide`]).
-    #[inline(never)]
+    #[inline(always)]
     fn local_divided(
         &self,
         surface: &Surface<'_, S>,
@@ -270,7 +296,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let mut per_total = None;
         if self.stages.illumination {
             for light in self.lights {
-                if let Some(per) = self.illuminate_divided(light, index, ray, surface, total, &mut c)
+                if let Some(per) =
+                    self.illuminate_divided(light, index, ray, surface, total, &mut c)
                 {
                     per_total.get_or_insert(per);
                 }
@@ -289,7 +316,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// Adds one light's diffuse and glint at a hit, divided by the distance travelled
     /// (`total`), to `c`, and returns `1 / total`; `None` when the light is behind the
     /// surface, outside a spotlight's cone, or blocked by an opaque object.
-    #[inline(never)]
+    #[inline(always)]
     fn illuminate_divided(
         &self,
         light: &Light<S>,

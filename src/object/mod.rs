@@ -81,6 +81,34 @@ pub struct Surface<'s, S> {
     pub diffuse: Vec3<S>,
 }
 
+/// The primary rays of one image row as a kind sees them when it prepares its test: every
+/// one starts at `eye`, and the direction of the ray through pixel position `x` is
+/// `(x - eye.x, dy, dz)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RowOrigin<S> {
+    /// Where every primary ray starts.
+    pub eye: Vec3<S>,
+    /// The rays' `y` component.
+    pub dy: S,
+    /// The rays' `z` component.
+    pub dz: S,
+    /// The scene's z rule (see [`closest_hit`]).
+    pub z_limit: S,
+}
+
+/// What a kind works out once for the primary rays of a row, so that each pixel costs less
+/// (see [`ObjectVTable::row_test`]). Exact: each pixel's answer is the one `hits` gives.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum RowTest<S> {
+    /// No ray of the row counts a hit (behind every ray, or in front of the image plane).
+    Miss,
+    /// Every ray of the row meets the object at this `t`, within the z rule (a plane
+    /// parallel to the x axis: `N . dir` is the same along the row).
+    At(S),
+    /// Each ray is tested with the kind's `row_hits`, which may use these values.
+    Each([S; 3]),
+}
+
 /// The surface look-up of a kind (see [`ObjectVTable::surface`]).
 pub type SurfaceLookup<S> =
     for<'s> fn(&Object<S>, &Palette<'s, S>, &Ray<S>, S) -> Option<Surface<'s, S>>;
@@ -100,6 +128,11 @@ pub struct ObjectVTable<S: Scalar> {
     pub hits: fn(&Object<S>, &Ray<S>, S) -> Option<S>,
     /// The unit surface normal at a point that `hits` found.
     pub normal: fn(&Object<S>, Vec3<S>) -> Vec3<S>,
+    /// Prepares the test of one image row's primary rays (a cheaper primary-ray test, as
+    /// a C programmer adds one: planes work out once what is the same along the row).
+    pub row_test: fn(&Object<S>, &RowOrigin<S>) -> RowTest<S>,
+    /// `hits` for a primary ray of a row whose test is [`RowTest::Each`], with its values.
+    pub row_hits: fn(&Object<S>, &[S; 3], &Ray<S>, S) -> Option<S>,
     /// Writes the object's block in scene text.
     #[cfg(feature = "print")]
     pub printer: fn(&Object<S>, &Palette<'_, S>, &mut dyn fmt::Write) -> fmt::Result,
@@ -218,6 +251,11 @@ impl<S: Scalar> Object<S> {
     pub fn material(&self) -> MaterialId {
         self.material
     }
+    /// The kind's test for one image row's primary rays.
+    #[inline]
+    pub fn row_test(&self, origin: &RowOrigin<S>) -> RowTest<S> {
+        (self.vtable.row_test)(self, origin)
+    }
     /// The kind's data.
     pub fn shape(&self) -> &Shape<S> {
         &self.shape
@@ -226,6 +264,21 @@ impl<S: Scalar> Object<S> {
     pub fn vtable(&self) -> &'static ObjectVTable<S> {
         self.vtable
     }
+}
+
+/// The default `row_test`: every ray tested with `row_hits`.
+pub fn object_row_test<S: Scalar>(_: &Object<S>, _: &RowOrigin<S>) -> RowTest<S> {
+    RowTest::Each([S::ZERO; 3])
+}
+
+/// The default `row_hits`: the kind's `hits`.
+pub fn object_row_hits<S: Scalar>(
+    obj: &Object<S>,
+    _: &[S; 3],
+    ray: &Ray<S>,
+    limit: S,
+) -> Option<S> {
+    obj.hits(ray, limit)
 }
 
 /// The default `hits`: no hit, as the C `object_no_hit`.
@@ -371,6 +424,53 @@ pub fn closest_hit_among<S: Scalar>(
         }
         ControlFlow::Continue(())
     });
+    best
+}
+
+/// An object of a row's list and its kind's test for the row's primary rays.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RowEntry<S> {
+    /// The object's index in the scene.
+    pub index: u16,
+    /// Its test.
+    pub test: RowTest<S>,
+}
+
+/// [`closest_hit_among`] for a primary ray of a row, over the row's objects and their
+/// prepared tests (in increasing index order, so ties still go to the object defined
+/// first).
+#[inline]
+pub fn closest_hit_in_row<S: Scalar>(
+    objects: &[Object<S>],
+    row: &[RowEntry<S>],
+    ray: &Ray<S>,
+    z_limit: S,
+) -> Option<(usize, S)> {
+    let mut best = None;
+    let mut limit = S::UNBOUNDED;
+    for entry in row {
+        let index = usize::from(entry.index);
+        match &entry.test {
+            RowTest::Miss => {}
+            RowTest::At(t) => {
+                if *t < limit {
+                    best = Some((index, *t));
+                    limit = *t;
+                }
+            }
+            RowTest::Each(values) => {
+                let Some(object) = objects.get(index) else {
+                    continue;
+                };
+                if let Some(t) = (object.vtable.row_hits)(object, values, ray, limit) {
+                    if ray.base.z + ray.dir.z * t <= z_limit {
+                        best = Some((index, t));
+                        limit = t;
+                    }
+                }
+            }
+        }
+    }
     best
 }
 

@@ -1,7 +1,8 @@
 //! The infinite plane: the seed's `plane_t`, `plane_init`, `plane_hits` and `plane_print`.
 
 use super::{
-    Hit, Object, ObjectVTable, Palette, Shape, Surface, object_material, object_surface,
+    Hit, Object, ObjectVTable, Palette, RowOrigin, RowTest, Shape, Surface, object_material,
+    object_row_hits, object_surface,
 };
 use crate::error::{Attr, Entity, ErrorKind};
 use crate::material::MaterialId;
@@ -67,6 +68,22 @@ impl<S: Scalar> Plane<S> {
         S::parameter_within(distance, n_dot_dir, limit)
     }
 
+    /// The test of a row's primary rays: when the normal has no x part, `N . dir` is the
+    /// same for every ray of the row (bit for bit: `0 * dir.x` adds nothing), so is `t`,
+    /// and so is the hit point's `z`. (Not in `f64`, whose primary rays are normalised:
+    /// their `y` and `z` change along the row.)
+    pub fn row_test(&self, origin: &RowOrigin<S>) -> RowTest<S> {
+        let n = self.unit_normal;
+        if S::COURSE_ORDER || n.x != S::ZERO {
+            return RowTest::Each([S::ZERO; 3]);
+        }
+        let ray = Ray::new(origin.eye, Vec3::new(S::ZERO, origin.dy, origin.dz));
+        match self.nearest(&ray, S::UNBOUNDED) {
+            Some(t) if origin.eye.z + origin.dz * t <= origin.z_limit => RowTest::At(t),
+            _ => RowTest::Miss,
+        }
+    }
+
     /// The nearest hit as a hit record.
     pub fn intersect(&self, ray: &Ray<S>) -> Option<Hit<S>> {
         self.nearest(ray, S::UNBOUNDED).map(|t| Hit {
@@ -88,6 +105,8 @@ impl<S: Scalar> Plane<S> {
         kind: Entity::Plane,
         hits: plane_hits,
         normal: plane_normal,
+        row_test: plane_row_test,
+        row_hits: object_row_hits,
         #[cfg(feature = "print")]
         printer: plane_print,
         material: object_material,
@@ -126,6 +145,15 @@ pub fn plane_surface<'s, S: Scalar>(
     t: S,
 ) -> Option<Surface<'s, S>> {
     object_surface(obj, palette, ray, t, plane_normal)
+}
+
+/// `row_test` of the infinite plane kinds (plane, tiled plane).
+pub fn plane_row_test<S: Scalar>(obj: &Object<S>, origin: &RowOrigin<S>) -> RowTest<S> {
+    match obj.shape() {
+        Shape::Plane(plane) => plane.row_test(origin),
+        Shape::TiledPlane(tiled) => tiled.rect.plane.row_test(origin),
+        _ => RowTest::Each([S::ZERO; 3]),
+    }
 }
 
 /// `normal` of the plane kinds: the unit normal, everywhere.

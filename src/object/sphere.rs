@@ -1,6 +1,8 @@
 //! The sphere.
 
-use super::{Object, ObjectVTable, Palette, Shape, Surface, ahead, object_material, object_surface};
+use super::{
+    Object, ObjectVTable, Palette, Shape, Surface, ahead, object_material, object_surface,
+};
 use crate::error::{Attr, Entity, ErrorKind};
 use crate::material::MaterialId;
 #[cfg(feature = "print")]
@@ -103,6 +105,8 @@ impl<S: Scalar> Sphere<S> {
         kind: Entity::Sphere,
         hits: sphere_hits,
         normal: sphere_normal,
+        row_test: super::object_row_test,
+        row_hits: super::object_row_hits,
         #[cfg(feature = "print")]
         printer: sphere_print,
         material: object_material,

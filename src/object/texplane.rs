@@ -73,6 +73,8 @@ impl<S: Scalar> TexPlane<S> {
         kind: Entity::TexPlane,
         hits: texplane_hits,
         normal: plane_normal,
+        row_test: super::object_row_test,
+        row_hits: super::object_row_hits,
         #[cfg(feature = "print")]
         printer: texplane_print,
         material: object_material,
@@ -184,7 +186,9 @@ mod tests {
         let obj: Object<f64> = texplane_init("w", 1, &def, 0, TextureMode::Fit, 1.0).unwrap();
         let look = |x: f64, y: f64| {
             let r = ray([x, y, 0.0], [0.0, 0.0, -1.0]);
-            let surface = obj.surface(&palette, &r, obj.hits(&r, f64::INFINITY).unwrap()).unwrap();
+            let surface = obj
+                .surface(&palette, &r, obj.hits(&r, f64::INFINITY).unwrap())
+                .unwrap();
             (surface.ambient, surface.diffuse)
         };
         let k = 255.0 / 256.0;

@@ -74,6 +74,8 @@ impl<S: Scalar> TiledPlane<S> {
         kind: Entity::TiledPlane,
         hits: tiled_plane_hits,
         normal: plane_normal,
+        row_test: super::plane::plane_row_test,
+        row_hits: super::object_row_hits,
         #[cfg(feature = "print")]
         printer: tiled_plane_print,
         material: tiled_plane_material,
@@ -184,7 +186,9 @@ mod tests {
         // u = (1,0,0), v = n x u = (0,0,-1): q = (x, -z).
         let at = |x: f64, z: f64| {
             let r = ray([x, 1.0, z], [0.0, -1.0, 0.0]);
-            let surface = obj.surface(&palette, &r, obj.hits(&r, f64::INFINITY).unwrap()).unwrap();
+            let surface = obj
+                .surface(&palette, &r, obj.hits(&r, f64::INFINITY).unwrap())
+                .unwrap();
             (
                 obj.material_at(surface.hit.point),
                 surface.ambient,

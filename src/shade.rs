@@ -162,7 +162,9 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let Some(object) = self.objects.get(index) else {
             return Vec3::ZERO;
         };
-        let Some(surface) = object.surface(&self.palette, ray, t) else {
+        // Borrowed where the look-up wrote it, not moved out of the `Option`.
+        let found = object.surface(&self.palette, ray, t);
+        let Some(surface) = found.as_ref() else {
             return Vec3::ZERO;
         };
         // The distance travelled: `t` for the unit rays of f64, `t |dir|` otherwise.
@@ -174,9 +176,9 @@ impl<'s, S: Scalar> Shader<'s, S> {
         };
         let total = total + travelled;
         let mut c = if S::COURSE_ORDER {
-            self.local(&surface, index, ray.base) / total
+            self.local(surface, index, ray.base) / total
         } else {
-            self.local_divided(&surface, index, ray, total)
+            self.local_divided(surface, index, ray, total)
         };
         let (hit, material) = (&surface.hit, surface.material);
         // `cfg!`: a build without the feature has no such materials (they fail to load), and
@@ -316,7 +318,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// Adds one light's diffuse and glint at a hit, divided by the distance travelled
     /// (`total`), to `c`, and returns `1 / total`; `None` when the light is behind the
     /// surface, outside a spotlight's cone, or blocked by an opaque object.
-    #[inline(always)]
+    #[inline(never)]
     fn illuminate_divided(
         &self,
         light: &Light<S>,
@@ -331,37 +333,38 @@ impl<'s, S: Scalar> Shader<'s, S> {
         // cos > 0 and d > 0.
         let cos_d = S::positive_dot(to_light, hit.normal)?;
         let d_squared = S::positive_dot(to_light, to_light)?;
-        if let Some(spot) = light.spot.as_ref().filter(|_| cfg!(feature = "spotlight")) {
-            // unit(hit - location) is -unit(to_light).
-            if !S::within_cone(-to_light, spot.axis, spot.cos_theta) {
-                return None;
-            }
+        if cfg!(feature = "spotlight") && light.spot.is_some() && !in_cone(light, to_light) {
+            return None;
         }
         let mut lit = surface.diffuse.mul_each(light.diffuse_emissivity);
         if cfg!(feature = "transparency") && self.stages.shadows && self.stages.filtered_shadows {
             lit = lit.mul_each(self.shadow_filter(hit.point, to_light, S::ONE, index)?);
-        } else if self.stages.shadows {
-            let shadow = Ray::new(hit.point, to_light);
-            let (among, z) = (self.among, self.z_limit);
-            if any_hit_among(self.objects, among, &shadow, index, S::ONE, z) {
-                return None;
-            }
+        } else if self.stages.shadows && self.blocked(hit.point, to_light, index) {
+            return None;
         }
         let r = S::wide_recip(S::wide_mul(d_squared, total));
         let per_total = S::wide_mul(d_squared, r);
         *c = *c + scaled(lit, S::wide_mul(cos_d, r));
         let material = surface.material;
         if cfg!(feature = "glint") && self.stages.glints && material.shininess != S::ZERO {
-            let halfway = to_light
-                .unit()
-                .and_then(|l| (-ray.dir).unit().and_then(|v| (v + l).unit()));
-            if let Some(h) = halfway {
-                let glint = light.emissivity
-                    * (material.specular * h.dot(hit.normal).pow_positive(material.shininess));
-                *c = *c + scaled(glint, per_total);
-            }
+            *c = *c + scaled(glint(light, surface, ray.dir, to_light), per_total);
         }
         Some(per_total)
+    }
+
+    /// Whether an object (but the one at `index`) is in the way from `from` to `from + l`,
+    /// within the z rule: the shadow test when nothing is transparent.
+    #[inline(always)]
+    fn blocked(&self, from: Vec3<S>, l: Vec3<S>, index: usize) -> bool {
+        let shadow = Ray::new(from, l);
+        any_hit_among(
+            self.objects,
+            self.among,
+            &shadow,
+            index,
+            S::ONE,
+            self.z_limit,
+        )
     }
 
     /// Walks from `from` towards a light `distance` away along `l`: `None` when an opaque
@@ -404,6 +407,37 @@ impl<'s, S: Scalar> Shader<'s, S> {
             remaining = remaining - t;
         }
         None
+    }
+}
+
+/// Whether the way from a spotlight to a hit, `-to_light`, lies within its cone.
+#[inline(never)]
+fn in_cone<S: Scalar>(light: &Light<S>, to_light: Vec3<S>) -> bool {
+    light
+        .spot
+        .as_ref()
+        .is_none_or(|spot| S::within_cone(-to_light, spot.axis, spot.cos_theta))
+}
+
+/// A light's Blinn-Phong glint at a hit seen along `dir`, before the division by the
+/// distance travelled.
+#[inline(never)]
+fn glint<S: Scalar>(
+    light: &Light<S>,
+    surface: &Surface<'_, S>,
+    dir: Vec3<S>,
+    to_light: Vec3<S>,
+) -> Vec3<S> {
+    let material = surface.material;
+    let halfway = to_light
+        .unit()
+        .and_then(|l| (-dir).unit().and_then(|v| (v + l).unit()));
+    match halfway {
+        Some(h) => {
+            light.emissivity
+                * (material.specular * h.dot(surface.hit.normal).pow_positive(material.shininess))
+        }
+        None => Vec3::ZERO,
     }
 }
 

@@ -17,7 +17,10 @@
 //! | [`Scalar::to_byte`] | `(bits * 255) >> 16` | exactly the f64 conversion of the same value |
 
 pub use super::wide::Wide;
-use super::wide::{Divisor, isqrt, mul_i32, mul_u32, shr_u64};
+use super::wide::{
+    Divisor, all_below, dot_i64_small, dot_q16_small, in_halves, isqrt, leading_zeros, mul_i32,
+    mul_q16_small, mul_u32, shr_u64,
+};
 use super::{PixelSteps, Scalar};
 use crate::vec3::Vec3;
 use core::cmp::Ordering;
@@ -87,7 +90,7 @@ impl I16F16 {
         if bits <= 0 {
             return i64::MIN;
         }
-        let msb = 31 - bits.leading_zeros();
+        let msb = 31 - leading_zeros(bits as u32);
         let mut m = (bits as u32) << (30 - msb); // mantissa in [1, 2) as Q2.30
         let mut fraction = 0i64;
         for i in 1..=24 {
@@ -133,6 +136,14 @@ impl I16F16 {
     }
 }
 
+impl Vec3<I16F16> {
+    /// The raw bits of the components.
+    #[inline]
+    fn bits(self) -> [i32; 3] {
+        [self.x.to_bits(), self.y.to_bits(), self.z.to_bits()]
+    }
+}
+
 impl fmt::Debug for I16F16 {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{}", self.0)
@@ -175,7 +186,12 @@ impl Mul for I16F16 {
     type Output = Self;
     #[inline]
     fn mul(self, o: Self) -> Self {
-        Self::saturate(mul_i32(self.to_bits(), o.to_bits()) >> FRAC)
+        let (a, b) = (self.to_bits(), o.to_bits());
+        // Cortex-M0: below 128 the product needs no 64-bit sum (the same result).
+        if in_halves() && all_below(&[a, b], 7) {
+            return Self::from_bits(mul_q16_small(a, b));
+        }
+        Self::saturate(mul_i32(a, b) >> FRAC)
     }
 }
 
@@ -211,10 +227,15 @@ impl Scalar for I16F16 {
     /// The exact 64-bit sum of the products, then 32 significant bits.
     #[inline]
     fn positive_dot(a: Vec3<Self>, b: Vec3<Self>) -> Option<Wide> {
-        let p = |x: Self, y: Self| mul_i32(x.to_bits(), y.to_bits());
-        let sum = p(a.x, b.x)
-            .saturating_add(p(a.y, b.y))
-            .saturating_add(p(a.z, b.z));
+        let (x, y) = (a.bits(), b.bits());
+        let sum = if in_halves() && all_below(&[x[0], x[1], x[2], y[0], y[1], y[2]], 6) {
+            dot_i64_small(x, y)
+        } else {
+            let p = |x: Self, y: Self| mul_i32(x.to_bits(), y.to_bits());
+            p(a.x, b.x)
+                .saturating_add(p(a.y, b.y))
+                .saturating_add(p(a.z, b.z))
+        };
         (sum > 0).then(|| Wide::from_u64(sum as u64, -32))
     }
     #[inline]
@@ -329,6 +350,10 @@ impl Scalar for I16F16 {
 
     #[inline]
     fn dot(a: Vec3<Self>, b: Vec3<Self>) -> Self {
+        let (x, y) = (a.bits(), b.bits());
+        if in_halves() && all_below(&[x[0], x[1], x[2], y[0], y[1], y[2]], 6) {
+            return Self::from_bits(dot_q16_small(x, y));
+        }
         let p = |x: Self, y: Self| mul_i32(x.to_bits(), y.to_bits());
         let sum = p(a.x, b.x)
             .saturating_add(p(a.y, b.y))

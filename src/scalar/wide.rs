@@ -76,15 +76,119 @@ fn shr_u64_halves(v: u64, s: u32) -> u64 {
     }
 }
 
+/// Leading zeros of a `u32`: ARMv6-M has no CLZ, and `u32::leading_zeros` becomes a call
+/// to a general routine; a binary search in four steps is shorter.
+#[inline]
+pub(crate) fn leading_zeros(v: u32) -> u32 {
+    if HALVES {
+        leading_zeros_search(v)
+    } else {
+        v.leading_zeros()
+    }
+}
+
+/// [`leading_zeros`] by binary search.
+#[inline]
+fn leading_zeros_search(v: u32) -> u32 {
+    if v == 0 {
+        return 32;
+    }
+    let (mut v, mut n) = (v, 0);
+    if v >> 16 == 0 {
+        n += 16;
+        v <<= 16;
+    }
+    if v >> 24 == 0 {
+        n += 8;
+        v <<= 8;
+    }
+    if v >> 28 == 0 {
+        n += 4;
+        v <<= 4;
+    }
+    if v >> 30 == 0 {
+        n += 2;
+        v <<= 2;
+    }
+    if v >> 31 == 0 {
+        n += 1;
+    }
+    n
+}
+
 /// Leading zeros of a non-zero `u64`.
 #[inline]
 fn leading_zeros_u64(v: u64) -> u32 {
     let high = (v >> 32) as u32;
     if high != 0 {
-        high.leading_zeros()
+        leading_zeros(high)
     } else {
-        32 + (v as u32).leading_zeros()
+        32 + leading_zeros(v as u32)
     }
+}
+
+/// Whether every one of these Q16.16 raw values is below 2^(16 + bits) in magnitude:
+/// `bits = 7` (128) for a product, 6 (64) for the three of a dot product.
+#[inline]
+pub(crate) fn all_below(values: &[i32], bits: u32) -> bool {
+    let bound = 1u32 << (16 + bits);
+    // x + bound < 2 bound exactly when -bound <= x < bound.
+    let mut any = 0u32;
+    for &v in values {
+        any |= (v as u32).wrapping_add(bound);
+    }
+    any < 2 * bound
+}
+
+/// `floor(a b / 2^16)` for `|a|, |b| < 2^23` (128 in Q16.16) in 32-bit arithmetic: with
+/// `a = ah 2^16 + al`, it is `ah bh 2^16 + ah bl + al bh + floor(al bl / 2^16)`, below 2^31.
+#[inline]
+pub(crate) fn mul_q16_small(a: i32, b: i32) -> i32 {
+    let (al, ah) = (a & 0xffff, a >> 16);
+    let (bl, bh) = (b & 0xffff, b >> 16);
+    let low = ((al as u32) * (bl as u32)) >> 16;
+    ((ah * bh) << 16) + ah * bl + al * bh + low as i32
+}
+
+/// `floor(sum of a_i b_i / 2^16)` for three pairs below 2^22 (64 in Q16.16) in 32-bit
+/// arithmetic: the high and middle parts summed as they are, the low products' high and
+/// low halves apart, so that the one truncation is of the exact sum.
+#[inline]
+pub(crate) fn dot_q16_small(a: [i32; 3], b: [i32; 3]) -> i32 {
+    let mut whole = 0i32;
+    let mut high = 0u32;
+    let mut low = 0u32;
+    for (&x, &y) in a.iter().zip(&b) {
+        let (xl, xh) = (x & 0xffff, x >> 16);
+        let (yl, yh) = (y & 0xffff, y >> 16);
+        whole += ((xh * yh) << 16) + xh * yl + xl * yh;
+        let product = (xl as u32) * (yl as u32);
+        high += product >> 16;
+        low += product & 0xffff;
+    }
+    whole + (high + (low >> 16)) as i32
+}
+
+/// The exact sum of three products `a_i b_i`, for values below 2^22, without a 64-bit
+/// multiply: the high and middle parts in 32 bits, the low products in 64.
+#[inline]
+pub(crate) fn dot_i64_small(a: [i32; 3], b: [i32; 3]) -> i64 {
+    let mut high = 0i32;
+    let mut middle = 0i32;
+    let mut low = 0u64;
+    for (&x, &y) in a.iter().zip(&b) {
+        let (xl, xh) = (x & 0xffff, x >> 16);
+        let (yl, yh) = (y & 0xffff, y >> 16);
+        high += xh * yh;
+        middle += xh * yl + xl * yh;
+        low += u64::from((xl as u32) * (yl as u32));
+    }
+    (i64::from(high) << 32) + (i64::from(middle) << 16) + low as i64
+}
+
+/// Whether the 64-bit arithmetic above is done in halves (ARMv6-M).
+pub(crate) const fn in_halves() -> bool {
+    HALVES
 }
 
 /// `2^63 / m` to 8 bits for `m = (128 + i + 1/2) 2^24`, `i` the table index: the first
@@ -134,7 +238,7 @@ impl Divisor {
         if magnitude == 0 {
             return None;
         }
-        let zeros = magnitude.leading_zeros();
+        let zeros = leading_zeros(magnitude);
         Some(Self {
             magnitude,
             zeros,
@@ -192,7 +296,7 @@ impl Divisor {
 fn normalise_u64(v: u64) -> (u32, u32) {
     let (high, low) = ((v >> 32) as u32, v as u32);
     if high != 0 {
-        let zeros = high.leading_zeros();
+        let zeros = leading_zeros(high);
         // zeros < 32: the low word's top `zeros` bits move up.
         let top = if zeros == 0 {
             high
@@ -201,7 +305,7 @@ fn normalise_u64(v: u64) -> (u32, u32) {
         };
         (top, zeros)
     } else {
-        let zeros = low.leading_zeros();
+        let zeros = leading_zeros(low);
         (low << zeros, 32 + zeros)
     }
 }
@@ -403,6 +507,27 @@ mod tests {
             prop_assert_eq!(mul_i32_halves(a, b), i64::from(a) * i64::from(b));
             prop_assert_eq!(mul_u32_halves(c, d), u64::from(c) * u64::from(d));
             prop_assert_eq!(mul_i32(a, b), i64::from(a) * i64::from(b));
+        }
+
+        #[test]
+        fn small_products_and_dots_are_exact(v in prop::array::uniform6(-(1i32 << 22)..(1 << 22)), a in -(1i32 << 23)..(1 << 23), b in -(1i32 << 23)..(1 << 23)) {
+            prop_assert_eq!(i64::from(mul_q16_small(a, b)), (i64::from(a) * i64::from(b)) >> 16);
+            let (x, y) = ([v[0], v[1], v[2]], [v[3], v[4], v[5]]);
+            let exact: i64 = x.iter().zip(&y).map(|(&p, &q)| i64::from(p) * i64::from(q)).sum();
+            prop_assert_eq!(dot_i64_small(x, y), exact);
+            prop_assert_eq!(i64::from(dot_q16_small(x, y)), exact >> 16);
+            prop_assert!(all_below(&v, 6));
+            prop_assert_eq!(all_below(&[a, b], 7), true);
+        }
+
+        #[test]
+        fn bounds_and_leading_zeros(v: i32, w: u32) {
+            let inside = i64::from(v).abs() < (1 << 22) || v == -(1 << 22);
+            prop_assert_eq!(all_below(&[v], 6), inside);
+            prop_assert_eq!(leading_zeros_search(w), w.leading_zeros());
+            let shifted = w >> (w % 32);
+            prop_assert_eq!(leading_zeros_search(shifted), shifted.leading_zeros());
+            prop_assert_eq!(leading_zeros_search(0), 32);
         }
 
         #[test]

@@ -109,6 +109,9 @@ pub enum RowTest<S> {
     Each([S; 3]),
 }
 
+/// A kind's `row_hits` (see [`ObjectVTable::row_hits`]).
+pub type RowHits<S> = fn(&Object<S>, &[S; 3], &Ray<S>, S) -> Option<S>;
+
 /// The surface look-up of a kind (see [`ObjectVTable::surface`]).
 pub type SurfaceLookup<S> =
     for<'s> fn(&Object<S>, &Palette<'s, S>, &Ray<S>, S) -> Option<Surface<'s, S>>;
@@ -132,7 +135,7 @@ pub struct ObjectVTable<S: Scalar> {
     /// a C programmer adds one: planes work out once what is the same along the row).
     pub row_test: fn(&Object<S>, &RowOrigin<S>) -> RowTest<S>,
     /// `hits` for a primary ray of a row whose test is [`RowTest::Each`], with its values.
-    pub row_hits: fn(&Object<S>, &[S; 3], &Ray<S>, S) -> Option<S>,
+    pub row_hits: RowHits<S>,
     /// Writes the object's block in scene text.
     #[cfg(feature = "print")]
     pub printer: fn(&Object<S>, &Palette<'_, S>, &mut dyn fmt::Write) -> fmt::Result,

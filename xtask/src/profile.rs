@@ -10,7 +10,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 /// The stages a frame's instructions are sorted into, in report order.
-pub(crate) const STAGES: [&str; 14] = [
+pub(crate) const STAGES: [&str; 16] = [
     "primary rays",
     "closest hit: loop",
     "closest hit: plane",
@@ -20,6 +20,8 @@ pub(crate) const STAGES: [&str; 14] = [
     "shadow rays",
     "trace: recursion, reflection, transparency",
     "divisions and square roots",
+    "shading quotients (wide numbers)",
+    "products and dot products (fixed point)",
     "soft float and compiler built-ins",
     "byte conversion",
     "row loop and output",
@@ -143,6 +145,29 @@ fn stage(chain: &[String]) -> &'static str {
     }
     if any(&["to_byte"]) {
         return "byte conversion";
+    }
+    if primitive(&[
+        "Wide",
+        "::scale",
+        "positive_dot",
+        "to_wide",
+        "wide_mul",
+        "wide_recip",
+        "normalise_u64",
+    ]) {
+        return "shading quotients (wide numbers)";
+    }
+    if primitive(&[
+        "mul_q16_small",
+        "dot_q16_small",
+        "dot_i64_small",
+        "all_below",
+        "I16F16 as Mul>::mul",
+        "I16F16 as scalar::Scalar>::dot",
+        "mul_i32",
+        "mul_u32",
+    ]) {
+        return "products and dot products (fixed point)";
     }
     if any(&["any_hit", "shadow_filter", "occluded", "shadow"]) {
         return "shadow rays";

@@ -70,6 +70,7 @@
     )
 )]
 
+pub mod bvh;
 pub mod camera;
 #[cfg(any(feature = "parser", feature = "print"))]
 pub mod decimal;

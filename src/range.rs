@@ -18,7 +18,7 @@
 //! | type | `MAX_EXTENT` | `MAX_TERM` | smallest radius, side or window after scaling |
 //! |---|---|---|---|
 //! | `f64` | 3e150 | 1e300 | 1e-150 |
-//! | `f32` | 1e18 | 1e36 | 1e-18 |
+//! | `f32` | 2^30 (1.1e9) | 1e36 | 1e-18 |
 //! | `I16F16` | 8192 | 16384 | 1/256 |
 //!
 //! The course's scenes (coordinates up to 20, ambient up to 2, diffuse times emissivity up to

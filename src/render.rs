@@ -19,6 +19,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+use crate::bvh::Bvh;
 use crate::camera::{Camera, RowRays};
 use crate::object::{Among, RowEntry};
 use crate::plan::Plan;
@@ -128,6 +129,7 @@ pub struct Renderer<'s, S: Scalar, const OBJECTS: usize = 32> {
     camera: &'s Camera<S>,
     shader: Shader<'s, S>,
     plan: Plan<OBJECTS>,
+    bvh: Bvh<S, OBJECTS>,
     planned: bool,
     shading: Shading,
 }
@@ -149,10 +151,12 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
             scene.objects(),
             scene.z_limit(),
         );
+        let bvh = Bvh::new(scene.objects(), plan.kept(), scene.camera().viewpoint());
         Self {
             camera: scene.camera(),
             shader: Shader::new(scene.objects(), scene.lights(), scene.palette()),
             plan,
+            bvh,
             planned: true,
             shading: Shading::Color,
         }
@@ -170,6 +174,12 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
         Self { planned, ..self }
     }
 
+    /// The bounding-volume hierarchy of the plan's objects (empty below
+    /// [`crate::bvh::MIN_OBJECTS`] bounded objects; not used without the plan).
+    pub fn bvh(&self) -> &Bvh<S, OBJECTS> {
+        &self.bvh
+    }
+
     /// The render plan (also when it is switched off).
     pub fn plan(&self) -> &Plan<OBJECTS> {
         &self.plan
@@ -179,7 +189,11 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
     fn shader(&self) -> Shader<'_, S> {
         if self.planned {
             let plan = &self.plan;
-            self.shader.planned(plan.stages(), Among::Only(plan.kept()))
+            let among = match self.bvh.tree() {
+                Some(tree) => Among::Tree(tree),
+                None => Among::Only(plan.kept()),
+            };
+            self.shader.planned(plan.stages(), among)
         } else {
             self.shader
         }
@@ -210,7 +224,7 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
         shader: &Shader<'_, S>,
         x: u16,
         row: u16,
-        among: Among<'_>,
+        among: Among<'_, S>,
     ) -> Vec3<S> {
         let y = self.camera.height().saturating_sub(1).saturating_sub(row);
         self.camera
@@ -243,7 +257,7 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
 
     /// The colour seen along a primary ray (black without one).
     #[inline]
-    fn color(&self, shader: &Shader<'_, S>, ray: Option<Ray<S>>, among: Among<'_>) -> Rgb888 {
+    fn color(&self, shader: &Shader<'_, S>, ray: Option<Ray<S>>, among: Among<'_, S>) -> Rgb888 {
         match self.shading {
             Shading::Color => {
                 let c = ray.map_or(Vec3::ZERO, |ray| shader.primary_among(&ray, among));
@@ -283,6 +297,10 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
         let origin = rays.origin(self.shader.z_limit());
         let mut tests = heapless::Vec::new();
         for index in self.plan.objects_in_row(camera_y) {
+            // The tree's objects are found by walking it.
+            if self.bvh.contains(index) {
+                continue;
+            }
             if let Some(object) = self.shader.objects().get(usize::from(index)) {
                 let test = object.row_test(&origin);
                 // Cannot fail: the row holds at most the plan's objects.
@@ -361,7 +379,7 @@ fn bytes<S: Scalar>(c: Vec3<S>) -> Rgb888 {
 }
 
 /// A row's list as the closest-hit search takes it.
-fn among<const N: usize>(objects: &Option<heapless::Vec<u16, N>>) -> Among<'_> {
+fn among<S, const N: usize>(objects: &Option<heapless::Vec<u16, N>>) -> Among<'_, S> {
     objects
         .as_ref()
         .map_or(Among::All, |list| Among::Only(list))

@@ -18,6 +18,7 @@
 //! with two recursive calls at most. The illumination runs in its own function so its locals
 //! are not part of every recursive frame.
 
+use crate::bvh::Tree;
 use crate::light::Light;
 use crate::object::{
     Among, Hit, Object, Palette, RowEntry, Surface, Z_LIMIT, any_hit_among, closest_hit_among,
@@ -45,7 +46,7 @@ pub struct Shader<'s, S: Scalar> {
     max_distance: S,
     z_limit: S,
     stages: Stages,
-    among: Among<'s>,
+    among: Among<'s, S>,
 }
 
 impl<'s, S: Scalar> Shader<'s, S> {
@@ -64,7 +65,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
 
     /// The same shader running only `stages` and testing rays only against `among` (a
     /// render plan's; see [`crate::plan`]).
-    pub fn planned(self, stages: Stages, among: Among<'s>) -> Self {
+    pub fn planned(self, stages: Stages, among: Among<'s, S>) -> Self {
         Self {
             stages,
             among,
@@ -79,7 +80,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
 
     /// The colour seen along a primary ray that can only hit the objects `among` (its
     /// row's list); the rays it spawns test every object the shader tests.
-    pub fn primary_among(&self, ray: &Ray<S>, among: Among<'_>) -> Vec3<S> {
+    pub fn primary_among(&self, ray: &Ray<S>, among: Among<'_, S>) -> Vec3<S> {
         // Nothing travelled yet: no bound to check.
         let found = closest_hit_among(self.objects, among, ray, None, S::UNBOUNDED, self.z_limit);
         match found {
@@ -91,7 +92,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// [`primary_among`](Self::primary_among) for a primary ray of a row whose objects'
     /// tests were prepared (see [`crate::object::RowTest`]).
     pub fn primary_in_row(&self, ray: &Ray<S>, row: &[RowEntry<S>]) -> Vec3<S> {
-        match closest_hit_in_row(self.objects, row, ray, self.z_limit) {
+        match closest_hit_in_row(self.objects, row, self.tree(), ray, self.z_limit) {
             Some((index, t)) => self.shade(ray, index, t, S::ZERO, 0),
             None => Vec3::ZERO,
         }
@@ -100,7 +101,16 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// [`first_object_among`](Self::first_object_among) for a primary ray of a row whose
     /// objects' tests were prepared.
     pub fn first_object_in_row(&self, ray: &Ray<S>, row: &[RowEntry<S>]) -> Option<usize> {
-        closest_hit_in_row(self.objects, row, ray, self.z_limit).map(|(index, _)| index)
+        closest_hit_in_row(self.objects, row, self.tree(), ray, self.z_limit)
+            .map(|(index, _)| index)
+    }
+
+    /// The tree the shader's objects are in, if they are.
+    fn tree(&self) -> Option<&Tree<'s, S>> {
+        match &self.among {
+            Among::Tree(tree) => Some(tree),
+            _ => None,
+        }
     }
 
     /// The scene's objects.
@@ -119,7 +129,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
     }
 
     /// [`first_object`](Self::first_object) among the objects of a row's list.
-    pub fn first_object_among(&self, ray: &Ray<S>, among: Among<'_>) -> Option<usize> {
+    pub fn first_object_among(&self, ray: &Ray<S>, among: Among<'_, S>) -> Option<usize> {
         closest_hit_among(self.objects, among, ray, None, S::UNBOUNDED, self.z_limit)
             .map(|(index, _)| index)
     }
@@ -133,7 +143,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
     fn trace_among(
         &self,
         ray: &Ray<S>,
-        among: Among<'_>,
+        among: Among<'_, S>,
         total: S,
         left_from: Option<usize>,
         depth: u8,

@@ -14,6 +14,7 @@ pub mod sphere;
 pub mod texplane;
 pub mod tiled_plane;
 
+use crate::bvh::Tree;
 use crate::camera::Camera;
 use crate::error::{Attr, Entity, ErrorKind, Feature, Snippet};
 use crate::material::{Material, MaterialId};
@@ -362,40 +363,81 @@ pub fn closest_hit<S: Scalar>(
 }
 
 /// Which objects a ray is tested against.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Among<'a> {
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Among<'a, S> {
     /// Every object of the scene.
     All,
     /// Only these, by index, in increasing order (so that ties still go to the object
     /// defined first): a render plan's list.
     Only(&'a [u16]),
+    /// A render plan's objects in a bounding-volume hierarchy (see [`crate::bvh`]).
+    Tree(Tree<'a, S>),
 }
 
-impl Among<'_> {
-    /// Calls `visit` with each object's index and the object, in increasing order, until
-    /// it breaks.
+/// The nearest hit so far, for a search that meets objects out of index order (a tree
+/// walk): a later object must be nearer, an earlier one may tie.
+#[derive(Clone, Copy, Debug)]
+struct Nearest<S> {
+    best: Option<(usize, S)>,
+    limit: S,
+}
+
+impl<S: Scalar> Nearest<S> {
+    /// The limit for object `index`: ties with the best so far count for earlier objects.
     #[inline]
-    fn each<S: Scalar>(
+    fn limit_for(&self, index: usize) -> S {
+        match self.best {
+            Some((best, t)) if index < best => t.next_up(),
+            _ => self.limit,
+        }
+    }
+
+    /// Takes a hit at `t` (below [`limit_for`](Self::limit_for)).
+    #[inline]
+    fn offer(&mut self, index: usize, t: S) {
+        if self.best.is_none_or(|(best, at)| t < at || index < best) {
+            self.best = Some((index, t));
+            self.limit = t;
+        }
+    }
+}
+
+/// A ray's unit direction and the length it was divided by (`f64` rays are unit rays).
+#[inline]
+fn unit_direction<S: Scalar>(ray: &Ray<S>) -> (Vec3<S>, S) {
+    if S::COURSE_ORDER || ray.len == S::ONE {
+        return (ray.dir, S::ONE);
+    }
+    let len = ray.length();
+    (ray.dir / len, len)
+}
+
+impl<S: Scalar> Among<'_, S> {
+    /// Calls `visit` with each object's index and the object, in increasing order, until
+    /// it breaks. (Not for trees, whose searches walk them.)
+    #[inline]
+    fn each(
         self,
         objects: &[Object<S>],
         mut visit: impl FnMut(usize, &Object<S>) -> ControlFlow<()>,
     ) {
-        match self {
+        let list = match self {
             Among::All => {
                 for (index, object) in objects.iter().enumerate() {
                     if visit(index, object).is_break() {
                         return;
                     }
                 }
+                return;
             }
-            Among::Only(list) => {
-                for &index in list {
-                    let index = usize::from(index);
-                    if let Some(object) = objects.get(index) {
-                        if visit(index, object).is_break() {
-                            return;
-                        }
-                    }
+            Among::Only(list) => list,
+            Among::Tree(tree) => tree.unbounded,
+        };
+        for &index in list {
+            let index = usize::from(index);
+            if let Some(object) = objects.get(index) {
+                if visit(index, object).is_break() {
+                    return;
                 }
             }
         }
@@ -407,12 +449,17 @@ impl Among<'_> {
 #[inline]
 pub fn closest_hit_among<S: Scalar>(
     objects: &[Object<S>],
-    among: Among<'_>,
+    among: Among<'_, S>,
     ray: &Ray<S>,
     skip: Option<usize>,
     limit: S,
     z_limit: S,
 ) -> Option<(usize, S)> {
+    if let Among::Tree(tree) = among {
+        let mut nearest = Nearest { best: None, limit };
+        search_tree(objects, &tree, ray, skip, z_limit, &mut nearest);
+        return nearest.best;
+    }
     let mut best = None;
     let mut limit = limit;
     among.each(objects, |index, object| {
@@ -430,6 +477,44 @@ pub fn closest_hit_among<S: Scalar>(
     best
 }
 
+/// The nearest hit among a tree's objects, its unbounded ones included, into `nearest`.
+fn search_tree<S: Scalar>(
+    objects: &[Object<S>],
+    tree: &Tree<'_, S>,
+    ray: &Ray<S>,
+    skip: Option<usize>,
+    z_limit: S,
+    nearest: &mut Nearest<S>,
+) {
+    let test = |nearest: &mut Nearest<S>, index: usize| {
+        if Some(index) == skip {
+            return;
+        }
+        let Some(object) = objects.get(index) else {
+            return;
+        };
+        if let Some(t) = object.hits(ray, nearest.limit_for(index)) {
+            if ray.base.z + ray.dir.z * t <= z_limit {
+                nearest.offer(index, t);
+            }
+        }
+    };
+    for &index in tree.unbounded {
+        test(nearest, usize::from(index));
+    }
+    let (d, len) = unit_direction(ray);
+    tree.walk(
+        ray.base,
+        d,
+        nearest,
+        |nearest| nearest.limit * len,
+        |nearest, index| {
+            test(nearest, index);
+            false
+        },
+    );
+}
+
 /// An object of a row's list and its kind's test for the row's primary rays.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RowEntry<S> {
@@ -441,11 +526,12 @@ pub struct RowEntry<S> {
 
 /// [`closest_hit_among`] for a primary ray of a row, over the row's objects and their
 /// prepared tests (in increasing index order, so ties still go to the object defined
-/// first).
+/// first), and the objects of `tree` (which the row's list then leaves out).
 #[inline]
 pub fn closest_hit_in_row<S: Scalar>(
     objects: &[Object<S>],
     row: &[RowEntry<S>],
+    tree: Option<&Tree<'_, S>>,
     ray: &Ray<S>,
     z_limit: S,
 ) -> Option<(usize, S)> {
@@ -474,6 +560,15 @@ pub fn closest_hit_in_row<S: Scalar>(
             }
         }
     }
+    if let Some(tree) = tree {
+        let mut nearest = Nearest { best, limit };
+        let no_unbounded = Tree {
+            unbounded: &[],
+            ..*tree
+        };
+        search_tree(objects, &no_unbounded, ray, None, z_limit, &mut nearest);
+        best = nearest.best;
+    }
     best
 }
 
@@ -483,24 +578,43 @@ pub fn closest_hit_in_row<S: Scalar>(
 #[inline]
 pub fn any_hit_among<S: Scalar>(
     objects: &[Object<S>],
-    among: Among<'_>,
+    among: Among<'_, S>,
     ray: &Ray<S>,
     skip: usize,
     limit: S,
     z_limit: S,
 ) -> bool {
-    let mut blocked = false;
-    among.each(objects, |index, object| {
-        blocked = index != skip
+    let blocks = |index: usize, object: &Object<S>| {
+        index != skip
             && object
                 .hits(ray, limit)
-                .is_some_and(|t| ray.base.z + ray.dir.z * t <= z_limit);
+                .is_some_and(|t| ray.base.z + ray.dir.z * t <= z_limit)
+    };
+    let mut blocked = false;
+    among.each(objects, |index, object| {
+        blocked = blocks(index, object);
         if blocked {
             ControlFlow::Break(())
         } else {
             ControlFlow::Continue(())
         }
     });
+    if let (false, Among::Tree(tree)) = (blocked, among) {
+        let (d, len) = unit_direction(ray);
+        let limit_d = limit * len;
+        tree.walk(
+            ray.base,
+            d,
+            &mut blocked,
+            |_| limit_d,
+            |blocked, index| {
+                *blocked = objects
+                    .get(index)
+                    .is_some_and(|object| blocks(index, object));
+                *blocked
+            },
+        );
+    }
     blocked
 }
 

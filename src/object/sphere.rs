@@ -49,13 +49,31 @@ impl<S: Scalar> Sphere<S> {
     /// The near root of `|base + t dir - center|^2 = r^2`; a miss when the discriminant is
     /// not positive or the near root is not in `(0, limit)`.
     ///
-    /// The root is found along the unit direction (see [`nearest_unit`](Self::nearest_unit)):
-    /// `f64` rays are unit rays; the other types' rays are divided by their length first,
-    /// and `t` by it after.
+    /// `f64` rays are unit rays (see [`nearest_unit`](Self::nearest_unit)). For `f32` rays
+    /// of any length the quadratic is taken with the discriminant in the cross-product form
+    /// `|dir|^2 r^2 - |f x dir|^2`, the same perpendicular distance scaled by `|dir|^2`:
+    /// one square root and one division. Fixed point, which has no range for those products,
+    /// divides the direction by its length first, and `t` by it after.
     #[inline]
     pub fn nearest(&self, ray: &Ray<S>, limit: S) -> Option<S> {
         if S::COURSE_ORDER || ray.len == S::ONE {
             return self.nearest_unit(ray.base, ray.dir, limit);
+        }
+        if S::WIDE_RANGE {
+            let f = ray.base - self.center;
+            let b = f.dot(ray.dir);
+            if b > S::ZERO {
+                return None;
+            }
+            let across = f.cross(ray.dir);
+            let discriminant = ray.dir.dot(ray.dir) * self.radius_squared - across.dot(across);
+            if !(discriminant > S::ZERO) {
+                return None;
+            }
+            // b <= 0: q is the far root times |dir|^2, and the near root is c / q.
+            let q = discriminant.sqrt() - b;
+            let c = f.dot(f) - self.radius_squared;
+            return ahead(c / q, limit);
         }
         let len = ray.length();
         if !(len > S::ZERO) {

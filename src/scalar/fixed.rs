@@ -221,6 +221,7 @@ impl Scalar for I16F16 {
     // 256 steps of 2^-16.
     const MIN_FEATURE: f64 = 1.0 / 256.0;
     const UNIT_STEP: f64 = 1.0 / 65536.0;
+    const WIDE_RANGE: bool = false;
     const COURSE_ORDER: bool = false;
     const PIXEL_STEPS: PixelSteps = PixelSteps::Exact;
     type Wide = Wide;
@@ -237,6 +238,10 @@ impl Scalar for I16F16 {
                 .saturating_add(p(a.z, b.z))
         };
         (sum > 0).then(|| Wide::from_u64(sum as u64, -32))
+    }
+    #[inline]
+    fn next_up(self) -> Self {
+        Self::from_bits(self.to_bits().saturating_add(1))
     }
     #[inline]
     fn to_wide(self) -> Option<Wide> {

@@ -81,6 +81,10 @@ pub trait Scalar:
     /// The spacing of the type's values just below 1, where the components of unit vectors
     /// lie: the finest difference in direction the type can hold (`2^-52`, `2^-23`, `2^-16`).
     const UNIT_STEP: f64;
+    /// Whether products of four coordinates stay within the type's range (the float types;
+    /// not fixed point, whose range ends at 32768): the sphere test can then take the
+    /// quadratic for a direction of any length instead of normalising it.
+    const WIDE_RANGE: bool;
     /// Whether the type computes in the course's order of operations, so that its images
     /// are the course's bit for bit (`f64`). The other types take cheaper formulations of
     /// the same quantities where that order costs divisions and square roots (see
@@ -178,6 +182,9 @@ pub trait Scalar:
         (q > Self::ZERO && q < limit).then_some(q)
     }
 
+    /// The next value above a positive one (the type's next step); other values stay.
+    fn next_up(self) -> Self;
+
     /// Whether `unit(v) . axis > cos` (a spotlight's cone, `axis` a unit vector): as the
     /// course writes it, `v` divided by its length first. Fixed point compares
     /// `v . axis > cos |v|` instead, which rounds less.
@@ -223,6 +230,7 @@ impl Scalar for f64 {
     // Squares of smaller lengths would leave the normal range.
     const MIN_FEATURE: f64 = 1e-150;
     const UNIT_STEP: f64 = f64::EPSILON;
+    const WIDE_RANGE: bool = true;
     const COURSE_ORDER: bool = true;
     const PIXEL_STEPS: PixelSteps = PixelSteps::Course;
     type Wide = f64;
@@ -234,6 +242,14 @@ impl Scalar for f64 {
     #[inline]
     fn to_wide(self) -> Option<Self> {
         (self > 0.0).then_some(self)
+    }
+    #[inline]
+    fn next_up(self) -> Self {
+        if self.is_finite() && self > 0.0 {
+            Self::from_bits(self.to_bits() + 1)
+        } else {
+            self
+        }
     }
     #[inline]
     fn wide_mul(a: Self, b: Self) -> Self {
@@ -313,13 +329,15 @@ impl Scalar for f32 {
     const ONE: Self = 1.0;
     const TWO: Self = 2.0;
     const UNBOUNDED: Self = f32::INFINITY;
-    // Squares of coordinates stay finite below 2^60.
-    const MAX_EXTENT: f64 = 1.152921504606847e18;
+    // Products of four coordinates (a direction's square times a radius's, in the sphere
+    // test) stay finite below 2^30.
+    const MAX_EXTENT: f64 = 1_073_741_824.0;
     const MAX_TERM: f64 = 1e36;
     const MIN_NORMAL: f64 = f32::MIN_POSITIVE as f64;
     // Squares of smaller lengths would leave the normal range.
     const MIN_FEATURE: f64 = 1e-18;
     const UNIT_STEP: f64 = f32::EPSILON as f64;
+    const WIDE_RANGE: bool = true;
     const COURSE_ORDER: bool = false;
     const PIXEL_STEPS: PixelSteps = PixelSteps::Multiply;
     type Wide = f32;
@@ -331,6 +349,14 @@ impl Scalar for f32 {
     #[inline]
     fn to_wide(self) -> Option<Self> {
         (self > 0.0).then_some(self)
+    }
+    #[inline]
+    fn next_up(self) -> Self {
+        if self.is_finite() && self > 0.0 {
+            Self::from_bits(self.to_bits() + 1)
+        } else {
+            self
+        }
     }
     #[inline]
     fn wide_mul(a: Self, b: Self) -> Self {

@@ -82,7 +82,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// row's list); the rays it spawns test every object the shader tests.
     pub fn primary_among(&self, ray: &Ray<S>, among: Among<'_, S>) -> Vec3<S> {
         // Nothing travelled yet: no bound to check.
-        let found = closest_hit_among(self.objects, among, ray, None, S::UNBOUNDED, self.z_limit);
+        let found = closest_hit_among(self.objects, &among, ray, None, S::UNBOUNDED, self.z_limit);
         match found {
             Some((index, t)) => self.shade(ray, index, t, S::ZERO, 0),
             None => Vec3::ZERO,
@@ -130,20 +130,20 @@ impl<'s, S: Scalar> Shader<'s, S> {
 
     /// [`first_object`](Self::first_object) among the objects of a row's list.
     pub fn first_object_among(&self, ray: &Ray<S>, among: Among<'_, S>) -> Option<usize> {
-        closest_hit_among(self.objects, among, ray, None, S::UNBOUNDED, self.z_limit)
+        closest_hit_among(self.objects, &among, ray, None, S::UNBOUNDED, self.z_limit)
             .map(|(index, _)| index)
     }
 
     /// The course's `trace`: `total` is the distance travelled so far, `left_from` the object
     /// the ray leaves.
     pub fn trace(&self, ray: &Ray<S>, total: S, left_from: Option<usize>, depth: u8) -> Vec3<S> {
-        self.trace_among(ray, self.among, total, left_from, depth)
+        self.trace_among(ray, &self.among, total, left_from, depth)
     }
 
     fn trace_among(
         &self,
         ray: &Ray<S>,
-        among: Among<'_, S>,
+        among: &Among<'_, S>,
         total: S,
         left_from: Option<usize>,
         depth: u8,
@@ -270,8 +270,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
         } else if self.stages.shadows {
             // Nothing is transparent: the first blocker decides, whichever it is.
             let shadow = Ray::new(hit.point, l);
-            let (among, z) = (self.among, self.z_limit);
-            if any_hit_among(self.objects, among, &shadow, index, distance, z) {
+            let z = self.z_limit;
+            if any_hit_among(self.objects, &self.among, &shadow, index, distance, z) {
                 return Vec3::ZERO;
             }
         }
@@ -369,7 +369,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let shadow = Ray::new(from, l);
         any_hit_among(
             self.objects,
-            self.among,
+            &self.among,
             &shadow,
             index,
             S::ONE,
@@ -396,7 +396,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
             let ray = Ray::new(base, l);
             let found = closest_hit_among(
                 self.objects,
-                self.among,
+                &self.among,
                 &ray,
                 Some(skip),
                 remaining,

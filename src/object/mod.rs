@@ -358,7 +358,7 @@ pub fn closest_hit<S: Scalar>(
     skip: Option<usize>,
     z_limit: S,
 ) -> Option<(usize, Hit<S>)> {
-    let (index, t) = closest_hit_among(objects, Among::All, ray, skip, S::UNBOUNDED, z_limit)?;
+    let (index, t) = closest_hit_among(objects, &Among::All, ray, skip, S::UNBOUNDED, z_limit)?;
     Some((index, objects.get(index)?.hit_at(ray, t)))
 }
 
@@ -417,11 +417,11 @@ impl<S: Scalar> Among<'_, S> {
     /// it breaks. (Not for trees, whose searches walk them.)
     #[inline]
     fn each(
-        self,
+        &self,
         objects: &[Object<S>],
         mut visit: impl FnMut(usize, &Object<S>) -> ControlFlow<()>,
     ) {
-        let list = match self {
+        let list = match *self {
             Among::All => {
                 for (index, object) in objects.iter().enumerate() {
                     if visit(index, object).is_break() {
@@ -449,7 +449,7 @@ impl<S: Scalar> Among<'_, S> {
 #[inline]
 pub fn closest_hit_among<S: Scalar>(
     objects: &[Object<S>],
-    among: Among<'_, S>,
+    among: &Among<'_, S>,
     ray: &Ray<S>,
     skip: Option<usize>,
     limit: S,
@@ -457,7 +457,7 @@ pub fn closest_hit_among<S: Scalar>(
 ) -> Option<(usize, S)> {
     if let Among::Tree(tree) = among {
         let mut nearest = Nearest { best: None, limit };
-        search_tree(objects, &tree, ray, skip, z_limit, &mut nearest);
+        search_tree(objects, tree, ray, skip, z_limit, &mut nearest);
         return nearest.best;
     }
     let mut best = None;
@@ -477,7 +477,9 @@ pub fn closest_hit_among<S: Scalar>(
     best
 }
 
-/// The nearest hit among a tree's objects, its unbounded ones included, into `nearest`.
+/// The nearest hit among a tree's objects, its unbounded ones included, into `nearest`
+/// (out of line: scenes without a tree keep their searches small).
+#[inline(never)]
 fn search_tree<S: Scalar>(
     objects: &[Object<S>],
     tree: &Tree<'_, S>,
@@ -578,7 +580,7 @@ pub fn closest_hit_in_row<S: Scalar>(
 #[inline]
 pub fn any_hit_among<S: Scalar>(
     objects: &[Object<S>],
-    among: Among<'_, S>,
+    among: &Among<'_, S>,
     ray: &Ray<S>,
     skip: usize,
     limit: S,
@@ -600,21 +602,39 @@ pub fn any_hit_among<S: Scalar>(
         }
     });
     if let (false, Among::Tree(tree)) = (blocked, among) {
-        let (d, len) = unit_direction(ray);
-        let limit_d = limit * len;
-        tree.walk(
-            ray.base,
-            d,
-            &mut blocked,
-            |_| limit_d,
-            |blocked, index| {
-                *blocked = objects
-                    .get(index)
-                    .is_some_and(|object| blocks(index, object));
-                *blocked
-            },
-        );
+        blocked = any_hit_in_tree(objects, tree, ray, skip, limit, z_limit);
     }
+    blocked
+}
+
+/// [`any_hit_among`] for the objects in a tree (out of line, as [`search_tree`]).
+#[inline(never)]
+fn any_hit_in_tree<S: Scalar>(
+    objects: &[Object<S>],
+    tree: &Tree<'_, S>,
+    ray: &Ray<S>,
+    skip: usize,
+    limit: S,
+    z_limit: S,
+) -> bool {
+    let (d, len) = unit_direction(ray);
+    let limit_d = limit * len;
+    let mut blocked = false;
+    tree.walk(
+        ray.base,
+        d,
+        &mut blocked,
+        |_| limit_d,
+        |blocked, index| {
+            *blocked = index != skip
+                && objects.get(index).is_some_and(|object| {
+                    object
+                        .hits(ray, limit)
+                        .is_some_and(|t| ray.base.z + ray.dir.z * t <= z_limit)
+                });
+            *blocked
+        },
+    );
     blocked
 }
 

@@ -58,7 +58,9 @@ impl<S: Scalar> Iterator for RowRays<S> {
                     .map(|unit| Ray::with_length(self.eye, unit, S::ONE)),
             )
         } else {
-            Some((!dir.is_zero()).then(|| Ray::new(self.eye, dir)))
+            // The length is needed for the distance travelled wherever the ray hits.
+            let len = dir.length();
+            Some((len > S::ZERO).then(|| Ray::with_length(self.eye, dir, len)))
         }
     }
 }

@@ -53,7 +53,7 @@ impl<S: Scalar> Sphere<S> {
     /// of any length the quadratic is taken with the discriminant in the cross-product form
     /// `|dir|^2 r^2 - |f x dir|^2`, the same perpendicular distance scaled by `|dir|^2`:
     /// one square root and one division. Fixed point, which has no range for those products,
-    /// divides the direction by its length first, and `t` by it after.
+    /// multiplies the direction by its length's reciprocal first, and `t` by it after.
     #[inline]
     pub fn nearest(&self, ray: &Ray<S>, limit: S) -> Option<S> {
         if S::COURSE_ORDER || ray.len == S::ONE {
@@ -75,12 +75,12 @@ impl<S: Scalar> Sphere<S> {
             let c = f.dot(f) - self.radius_squared;
             return ahead(c / q, limit);
         }
+        // One wide reciprocal for the direction and for `t`.
         let len = ray.length();
-        if !(len > S::ZERO) {
-            return None;
-        }
-        let t = self.nearest_unit(ray.base, ray.dir / len, limit * len)?;
-        ahead(t / len, limit)
+        let inv = S::wide_recip(len.to_wide()?);
+        let unit = Vec3::new(ray.dir.x.scale(inv), ray.dir.y.scale(inv), ray.dir.z.scale(inv));
+        let t = self.nearest_unit(ray.base, unit, limit * len)?;
+        ahead(t.scale(inv), limit)
     }
 
     /// [`nearest`](Self::nearest) for a unit `dir`.

@@ -56,7 +56,16 @@ impl I16F16 {
 
     #[inline]
     fn saturate(wide: i64) -> Self {
-        Self::from_bits(wide.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32)
+        // In range exactly when the value is its low word sign-extended (two instructions
+        // on a 32-bit target, where a clamp of an i64 is a dozen).
+        let low = wide as i32;
+        if i64::from(low) == wide {
+            Self::from_bits(low)
+        } else if wide < 0 {
+            Self::MIN
+        } else {
+            Self::MAX
+        }
     }
 
     /// `x / d` with `d` prepared: `trunc(x 2^16 / d)`, saturated; `d` is the divisor's
@@ -356,10 +365,15 @@ impl Scalar for I16F16 {
     #[inline]
     fn dot(a: Vec3<Self>, b: Vec3<Self>) -> Self {
         let (x, y) = (a.bits(), b.bits());
-        if in_halves() && all_below(&[x[0], x[1], x[2], y[0], y[1], y[2]], 6) {
-            return Self::from_bits(dot_q16_small(x, y));
-        }
         let p = |x: Self, y: Self| mul_i32(x.to_bits(), y.to_bits());
+        if all_below(&[x[0], x[1], x[2], y[0], y[1], y[2]], 6) {
+            if in_halves() {
+                return Self::from_bits(dot_q16_small(x, y));
+            }
+            // Below 64 the products are below 2^44: their sum cannot overflow, nor can
+            // the result.
+            return Self::from_bits(((p(a.x, b.x) + p(a.y, b.y) + p(a.z, b.z)) >> FRAC) as i32);
+        }
         let sum = p(a.x, b.x)
             .saturating_add(p(a.y, b.y))
             .saturating_add(p(a.z, b.z));

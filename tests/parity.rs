@@ -21,10 +21,12 @@ struct Image {
     width: usize,
     rgb: Vec<[u8; 3]>,
     ids: Vec<Option<usize>>,
-    /// Pixels whose primary ray meets a rectangle's plane exactly on the rectangle's edge
-    /// (within 1e-9 of its size, in f64): in exact arithmetic a tie, so any rounding decides.
-    /// fplane0, fplane4, spec1 and spec3 put an edge on the centres of a whole pixel column
-    /// (world x = 0 is pixel column 0).
+    /// Pixels whose primary ray meets a rectangle's plane exactly on the rectangle's edge,
+    /// or a textured rectangle exactly on an edge between two texels (within 1e-9 of the
+    /// size, in f64): in exact arithmetic a tie, so any rounding decides. fplane0, fplane4,
+    /// spec1 and spec3 put a rectangle's edge on the centres of a whole pixel column (world
+    /// x = 0 is pixel column 0); texplane1 and texplane2 put texel edges on two columns
+    /// (213 and 426 of 640: a third of the wall, where a texel edge lies).
     ties: Vec<bool>,
 }
 
@@ -73,12 +75,44 @@ fn ties(scene: &HostScene<'_, f64>) -> Vec<bool> {
                 let tol = 1e-9 * w.max(h);
                 let inside = |q: f64, size: f64| q >= -tol && q <= size + tol;
                 let edge = |q: f64, size: f64| q.abs() <= tol || (q - size).abs() <= tol;
-                (edge(qx, w) && inside(qy, h)) || (edge(qy, h) && inside(qx, w))
+                let on_rect_edge = (edge(qx, w) && inside(qy, h)) || (edge(qy, h) && inside(qx, w));
+                on_rect_edge
+                    || (inside(qx, w) && inside(qy, h) && on_texel_edge(scene, object, qx, qy))
             });
             ties.push(on_edge);
         }
     }
     ties
+}
+
+/// Whether local coordinates `(qx, qy)` of a textured rectangle lie on an edge between two
+/// texels (in f64, within 1e-9 of a texel).
+fn on_texel_edge(
+    scene: &HostScene<'_, f64>,
+    object: &microray::Object<f64>,
+    qx: f64,
+    qy: f64,
+) -> bool {
+    let Shape::TexPlane(textured) = object.shape() else {
+        return false;
+    };
+    let Some(texture) = scene.textures().get(usize::from(textured.texture)) else {
+        return false;
+    };
+    let camera = scene.camera();
+    let [w, h] = textured.rect.dimensions;
+    let (across, up) = match textured.mode {
+        microray::object::TextureMode::Fit => (
+            qx / w * f64::from(texture.width()),
+            qy / h * f64::from(texture.height()),
+        ),
+        microray::object::TextureMode::Tile => (
+            qx / camera.world()[0] * f64::from(camera.width()),
+            qy / camera.world()[1] * f64::from(camera.height()),
+        ),
+    };
+    let near_whole = |v: f64| (v - v.round()).abs() <= 1e-9 * v.abs().max(1.0);
+    near_whole(across) || near_whole(up)
 }
 
 /// The no_std path: `S` into embedded-graphics-simulator's display.

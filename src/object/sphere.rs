@@ -78,7 +78,11 @@ impl<S: Scalar> Sphere<S> {
         // One wide reciprocal for the direction and for `t`.
         let len = ray.length();
         let inv = S::wide_recip(len.to_wide()?);
-        let unit = Vec3::new(ray.dir.x.scale(inv), ray.dir.y.scale(inv), ray.dir.z.scale(inv));
+        let unit = Vec3::new(
+            ray.dir.x.scale(inv),
+            ray.dir.y.scale(inv),
+            ray.dir.z.scale(inv),
+        );
         let t = self.nearest_unit(ray.base, unit, limit * len)?;
         ahead(t.scale(inv), limit)
     }

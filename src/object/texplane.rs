@@ -42,18 +42,29 @@ impl<S: Scalar> TexPlane<S> {
         };
         let (width, height) = (i32::from(texture.width()), i32::from(texture.height()));
         let [qx, qy] = self.rect.local(hit.point);
+        // `q / size * texels` as the course writes it (f64); the other types multiply by
+        // the ratio `texels / size` instead, whose rounding the texel count does not
+        // multiply (in Q16.16, dividing first puts the texel edge 256 steps off).
+        let texels = |q: S, size: S, count: i32| {
+            let count = S::from_i32(count);
+            if S::COURSE_ORDER {
+                (q / size * count).floor_to_i32()
+            } else {
+                (q * (count / size)).floor_to_i32()
+            }
+        };
         let (column, row) = match self.mode {
             TextureMode::Fit => {
                 let [w, h] = self.rect.dimensions;
-                let x = (qx / w * S::from_i32(width)).floor_to_i32();
-                let y = (qy / h * S::from_i32(height)).floor_to_i32();
+                let x = texels(qx, w, width);
+                let y = texels(qy, h, height);
                 (x.clamp(0, width - 1), y.clamp(0, height - 1))
             }
             TextureMode::Tile => {
                 let camera = palette.camera;
                 let [world_w, world_h] = camera.world();
-                let x = (qx / world_w * S::from_i32(i32::from(camera.width()))).floor_to_i32();
-                let y = (qy / world_h * S::from_i32(i32::from(camera.height()))).floor_to_i32();
+                let x = texels(qx, world_w, i32::from(camera.width()));
+                let y = texels(qy, world_h, i32::from(camera.height()));
                 (x.rem_euclid(width), y.rem_euclid(height))
             }
         };

@@ -378,8 +378,8 @@ impl Wide {
         }
     }
 
-    /// `bits 2^-16 * self` in Q16.16 raw bits: `bits m 2^e`, truncated toward zero and
-    /// saturated.
+    /// `bits 2^-16 * self` in Q16.16 raw bits: `bits m 2^e`, rounded to nearest (so that
+    /// the shading's last step adds no bias to the truncations before it) and saturated.
     #[inline]
     pub(crate) fn scale_bits(self, bits: i32) -> i32 {
         let magnitude = bits.unsigned_abs();
@@ -392,7 +392,10 @@ impl Wide {
             return saturated;
         }
         let product = mul_u32(magnitude, self.mantissa);
-        let shifted = shr_u64(product, self.exponent.unsigned_abs());
+        let shift = self.exponent.unsigned_abs();
+        // Half a unit of the result, added before the shift (the product is below 2^64 - 2^63).
+        let half = if shift <= 64 { 1u64 << (shift - 1) } else { 0 };
+        let shifted = shr_u64(product + half, shift);
         match i32::try_from(shifted) {
             Ok(v) if bits < 0 => -v,
             Ok(v) => v,

@@ -579,7 +579,7 @@ fn values_beyond_the_number_type() {
     );
     // What scaling cannot save: a range of sizes wider than the type's.
     let wide = scene(
-        "sphere big { material m center 0 0 -5 radius 1e30 }\nsphere small { material m center 0 0 -5 radius 1e-10 }",
+        "sphere big { material m center 0 0 -5 radius 1e20 }\nsphere small { material m center 0 0 -5 radius 1e-10 }",
     );
     let e = parse_scene::<f32, 32, 16, 8, 16, 1024>(wide.as_bytes(), no_textures).unwrap_err();
     assert_eq!(

@@ -269,7 +269,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
             lit = lit.mul_each(filter);
         } else if self.stages.shadows {
             // Nothing is transparent: the first blocker decides, whichever it is.
-            let shadow = Ray::new(hit.point, l);
+            let shadow = Ray::with_length(hit.point, l, S::ONE);
             let z = self.z_limit;
             if any_hit_among(self.objects, &self.among, &shadow, index, distance, z) {
                 return Vec3::ZERO;
@@ -393,7 +393,12 @@ impl<'s, S: Scalar> Shader<'s, S> {
         // Each step moves forward along the ray; the count only guards against a scene
         // that would make the walk revisit objects forever.
         for _ in 0..=self.objects.len().saturating_mul(2) {
-            let ray = Ray::new(base, l);
+            // The course's shadow rays are unit rays; the others run along `L` itself.
+            let ray = if S::COURSE_ORDER {
+                Ray::with_length(base, l, S::ONE)
+            } else {
+                Ray::new(base, l)
+            };
             let found = closest_hit_among(
                 self.objects,
                 &self.among,

@@ -402,10 +402,10 @@ impl<S: Scalar> Nearest<S> {
     }
 }
 
-/// A ray's unit direction and the length it was divided by (`f64` rays are unit rays).
+/// A ray's unit direction and the length it was divided by.
 #[inline]
 fn unit_direction<S: Scalar>(ray: &Ray<S>) -> (Vec3<S>, S) {
-    if S::COURSE_ORDER || ray.len == S::ONE {
+    if ray.len == S::ONE {
         return (ray.dir, S::ONE);
     }
     let len = ray.length();

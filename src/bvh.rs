@@ -1,20 +1,20 @@
 //! A bounding-volume hierarchy: the scene's bounded objects (spheres, rectangles) in a
-//! tree of bounding spheres, built once before rendering into fixed-capacity arrays, so
+//! tree of axis-aligned boxes, built once before rendering into fixed-capacity arrays, so
 //! that a ray meets `O(log n)` of them instead of all.
 //!
-//! Why spheres and not boxes: the ray-sphere test needs no division (a box's slab test
-//! divides by each direction component), so it costs the same few products in every
-//! number type, Q16.16 included.
-//!
-//! - Build: top-down, in `f64`, from each object's bounding sphere; a node's objects are
-//!   split at the median of their centres along the longest side of the centres' box.
-//!   Leaves hold one or two objects; the tree never has more nodes than the scene has
-//!   object slots (a range that would need more becomes one leaf).
-//! - Every node's radius is widened by the rounding its test can make in the number type,
-//!   so a ray that meets an object always meets every node above it: the tree only decides
-//!   which objects are tested, never what a test answers. Objects are then tested through
-//!   their kinds' function tables, and ties go to the object defined first, as without the
-//!   tree; `tests/plan.rs` renders every scene with and without it and compares.
+//! - Build: top-down, in `f64`, from each object's box; a node's objects are split at the
+//!   median of their centres along the longest side of the centres' box. Leaves hold one
+//!   or two objects; the tree never has more nodes than its capacity (a range that would
+//!   need more becomes one leaf).
+//! - Walk: the slab test with the ray's inverse direction, worked out once per ray (three
+//!   divisions), nearer child first; it takes the ray's parameter as it is, so rays of any
+//!   length need no normalising.
+//! - Every box is widened by the rounding its test can make in the number type, so a ray
+//!   that meets an object always meets every box above it: the tree only decides which
+//!   objects are tested, never what a test answers. Objects are then tested through their
+//!   kinds' function tables, and ties go to the object defined first, as without the tree;
+//!   `tests/bvh.rs` compares every search with and without it, and `tests/plan.rs` every
+//!   scene.
 //! - Unbounded objects (infinite planes) stay outside the tree and are tested on every ray.
 
 use crate::object::{Object, Shape};
@@ -29,15 +29,13 @@ pub const MIN_OBJECTS: usize = 6;
 /// levels hold far more objects than any scene's capacity.
 const STACK: usize = 32;
 
-/// A node: a bounding sphere, and either two children or one or two objects.
+/// A node: a box, and either two children or one or two objects.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Node<S> {
-    /// The sphere's centre.
-    pub center: Vec3<S>,
-    /// Its radius, widened by the test's rounding.
-    pub radius: S,
-    /// The radius squared.
-    pub radius_squared: S,
+    /// The box's lowest corner, widened by the test's rounding.
+    pub low: Vec3<S>,
+    /// Its highest corner, widened likewise.
+    pub high: Vec3<S>,
     /// A leaf's first object in [`Bvh::order`]; an inner node's second child (the first
     /// is the next node).
     pub first: u16,
@@ -64,10 +62,14 @@ pub struct Tree<'a, S> {
     pub unbounded: &'a [u16],
 }
 
-/// An object's bounding sphere in `f64`: centre and radius. `None` for unbounded kinds.
-fn bounds<S: Scalar>(object: &Object<S>) -> Option<(Vec3<f64>, f64)> {
+/// An object's box in `f64`: lowest and highest corner. `None` for unbounded kinds.
+fn bounds<S: Scalar>(object: &Object<S>) -> Option<(Vec3<f64>, Vec3<f64>)> {
     let rect = match object.shape() {
-        Shape::Sphere(s) => return Some((s.center.to_f64(), s.radius.to_f64())),
+        Shape::Sphere(s) => {
+            let (c, r) = (s.center.to_f64(), s.radius.to_f64());
+            let reach = Vec3::new(r, r, r);
+            return Some((c - reach, c + reach));
+        }
         Shape::FPlane(rect) => rect,
         Shape::TexPlane(textured) => &textured.rect,
         Shape::Plane(_) | Shape::TiledPlane(_) => return None,
@@ -75,13 +77,10 @@ fn bounds<S: Scalar>(object: &Object<S>) -> Option<(Vec3<f64>, f64)> {
     let p = rect.plane.point.to_f64();
     let across = rect.u.to_f64() * rect.dimensions[0].to_f64();
     let up = rect.v.to_f64() * rect.dimensions[1].to_f64();
-    let half = (across + up) * 0.5;
-    Some((p + half, libm::sqrt(half.dot(half))))
-}
-
-fn distance(a: Vec3<f64>, b: Vec3<f64>) -> f64 {
-    let d = a - b;
-    libm::sqrt(d.dot(d))
+    let corners = [p + across, p + up, p + across + up];
+    Some(corners.iter().fold((p, p), |(low, high), &c| {
+        (min_each(low, c), max_each(high, c))
+    }))
 }
 
 fn min_each(a: Vec3<f64>, b: Vec3<f64>) -> Vec3<f64> {
@@ -143,9 +142,10 @@ impl<S: Scalar, const N: usize> Bvh<S, N> {
         let e = eye.to_f64();
         let mut extent = libm::fabs(e.x).max(libm::fabs(e.y)).max(libm::fabs(e.z));
         for &index in &tree.order {
-            if let Some((c, r)) = objects.get(usize::from(index)).and_then(|o| bounds(o)) {
-                let far = libm::fabs(c.x).max(libm::fabs(c.y)).max(libm::fabs(c.z));
-                extent = extent.max(far + r);
+            if let Some((low, high)) = objects.get(usize::from(index)).and_then(|o| bounds(o)) {
+                for c in [low, high] {
+                    extent = extent.max(libm::fabs(c.x).max(libm::fabs(c.y)).max(libm::fabs(c.z)));
+                }
             }
         }
         let margin = 64.0 * S::UNIT_STEP * (2.0 * extent + 1.0) + 64.0 * S::MIN_NORMAL;
@@ -156,40 +156,38 @@ impl<S: Scalar, const N: usize> Bvh<S, N> {
 
     /// Builds the subtree of `order[lo..hi]` at the next node.
     fn build(&mut self, objects: &[Object<S>], lo: usize, hi: usize, margin: f64, depth: usize) {
-        let sphere = |index: &u16| {
+        let boxed = |index: &u16| {
+            let origin = Vec3::new(0.0, 0.0, 0.0);
             objects
                 .get(usize::from(*index))
                 .and_then(|o| bounds(o))
-                .unwrap_or((Vec3::new(0.0, 0.0, 0.0), 0.0))
+                .unwrap_or((origin, origin))
+        };
+        let center = |index: &u16| {
+            let (low, high) = boxed(index);
+            (low + high) * 0.5
         };
         let Some(range) = self.order.get(lo..hi) else {
             return;
         };
-        // The box of the spheres, its centre, and the sphere around them all.
+        // The box of the objects' boxes, and the box of their centres.
         let far = Vec3::new(f64::INFINITY, f64::INFINITY, f64::INFINITY);
         let (mut low, mut high) = (far, -far);
         let (mut c_low, mut c_high) = (far, -far);
         for index in range {
-            let (c, r) = sphere(index);
-            let reach = Vec3::new(r, r, r);
-            low = min_each(low, c - reach);
-            high = max_each(high, c + reach);
-            c_low = min_each(c_low, c);
-            c_high = max_each(c_high, c);
+            let (l, h) = boxed(index);
+            low = min_each(low, l);
+            high = max_each(high, h);
+            c_low = min_each(c_low, center(index));
+            c_high = max_each(c_high, center(index));
         }
-        let center = (low + high) * 0.5;
-        let radius = range.iter().fold(0.0f64, |m, index| {
-            let (c, r) = sphere(index);
-            m.max(distance(c, center) + r)
-        });
-        let radius = radius * (1.0 + 1e-9) + margin;
+        let widen = Vec3::new(margin, margin, margin);
         let count = hi - lo;
         // Room for this node and, if it splits, at least two more.
-        let leaf = count <= 2 || depth + 1 >= STACK || self.nodes.len() + 3 > N;
+        let leaf = count <= 4 || depth + 1 >= STACK || self.nodes.len() + 3 > N;
         let node = Node {
-            center: center.cast(),
-            radius: S::from_f64(radius),
-            radius_squared: S::from_f64(radius * radius),
+            low: (low - widen).cast(),
+            high: (high + widen).cast(),
             first: if leaf { lo as u16 } else { 0 },
             count: if leaf { count as u16 } else { 0 },
         };
@@ -202,7 +200,7 @@ impl<S: Scalar, const N: usize> Bvh<S, N> {
         let mid = lo + count / 2;
         if let Some(range) = self.order.get_mut(lo..hi) {
             range.select_nth_unstable_by(count / 2, |a, b| {
-                component(sphere(a).0, axis).total_cmp(&component(sphere(b).0, axis))
+                component(center(a), axis).total_cmp(&component(center(b), axis))
             });
         }
         self.build(objects, lo, mid, margin, depth + 1);
@@ -233,33 +231,75 @@ impl<S: Scalar, const N: usize> Bvh<S, N> {
     }
 }
 
+/// A ray as the walk tests boxes with it: its base, the inverse of each direction component
+/// (infinite, or the type's largest value, for a zero component: the ray then stays in one
+/// slab, and the products tell whether it is inside).
+#[derive(Clone, Copy, Debug)]
+pub struct Slabs<S> {
+    base: Vec3<S>,
+    inverse: Vec3<S>,
+}
+
+impl<S: Scalar> Slabs<S> {
+    /// The slabs of a ray from `base` along `dir` (three divisions).
+    #[inline]
+    pub fn new(base: Vec3<S>, dir: Vec3<S>) -> Self {
+        let inverse = Vec3::new(dir.x.recip(), dir.y.recip(), dir.z.recip());
+        Self { base, inverse }
+    }
+
+    /// The parameter where the ray enters the box (0 when it starts inside), if it meets
+    /// the box with a parameter in `(0, limit)`.
+    #[inline]
+    fn enters(&self, node: &Node<S>, limit: S) -> Option<S> {
+        let axis = |low: S, high: S, base: S, inverse: S| {
+            let (a, b) = ((low - base) * inverse, (high - base) * inverse);
+            (a.min(b), a.max(b))
+        };
+        let (b, i) = (self.base, self.inverse);
+        let (x0, x1) = axis(node.low.x, node.high.x, b.x, i.x);
+        let (y0, y1) = axis(node.low.y, node.high.y, b.y, i.y);
+        let (z0, z1) = axis(node.low.z, node.high.z, b.z, i.z);
+        // A NaN (a base exactly on a face that a zero component runs along) makes the
+        // test reject the box: such a ray lies in the face, which the widening keeps
+        // clear of every object in the box.
+        let enter = S::ZERO.max(x0).max(y0).max(z0);
+        let exit = limit.min(x1).min(y1).min(z1);
+        (!(enter > exit)).then_some(enter)
+    }
+}
+
 impl<S: Scalar> Tree<'_, S> {
-    /// Calls `visit` with every object index whose leaf a ray from `base` along the unit
-    /// direction `d` can reach within `limit(state)` (in units of `d`), nearer nodes first,
-    /// until `visit` returns `true`. The limit is read again at every node: the nearest hit
-    /// so far shrinks it.
+    /// Calls `visit` with every object index whose leaf the ray of `slabs` can reach with a
+    /// parameter below `limit(state)`, nearer boxes first, until `visit` returns `true`.
+    /// The limit is read again at every node: the nearest hit so far shrinks it. Each inner
+    /// node tests both children's boxes, walks the nearer and keeps the other on a stack.
     #[inline]
     pub fn walk<T>(
         &self,
-        base: Vec3<S>,
-        d: Vec3<S>,
+        slabs: &Slabs<S>,
         state: &mut T,
         limit: impl Fn(&T) -> S,
         mut visit: impl FnMut(&mut T, usize) -> bool,
     ) {
-        let mut stack = [0u16; STACK];
-        let mut top = 1usize;
-        while top > 0 {
-            top -= 1;
-            let Some(&at) = stack.get(top) else {
+        // Nodes whose boxes the ray met, with the parameter where it entered them (a
+        // heapless vector: nothing to clear for a walk that ends at the root).
+        let mut stack: Vec<(u16, S), STACK> = Vec::new();
+        let mut next = match self.nodes.first() {
+            Some(root) => slabs.enters(root, limit(state)).map(|t| (0u16, t)),
+            None => None,
+        };
+        loop {
+            let Some((at, enter)) = next.take().or_else(|| stack.pop()) else {
                 return;
             };
+            // The nearest hit so far may have come closer since the box was met.
+            if enter > limit(state) {
+                continue;
+            }
             let Some(node) = self.nodes.get(usize::from(at)) else {
                 continue;
             };
-            if !meets(node, base, d, limit(state)) {
-                continue;
-            }
             if node.count > 0 {
                 let first = usize::from(node.first);
                 let leaf = self
@@ -273,34 +313,25 @@ impl<S: Scalar> Tree<'_, S> {
                 }
                 continue;
             }
-            // The nearer child is walked first: pushed last.
-            let (a, b) = (at + 1, node.first);
-            let along = |i: u16| {
+            // Both children's boxes now; the nearer is walked next, the other kept.
+            let bound = limit(state);
+            let meet = |i: u16| {
                 self.nodes
                     .get(usize::from(i))
-                    .map_or(S::ZERO, |n| (n.center - base).dot(d))
+                    .and_then(|n| slabs.enters(n, bound))
+                    .map(|t| (i, t))
             };
-            let (near, far) = if along(b) < along(a) { (b, a) } else { (a, b) };
-            for child in [far, near] {
-                if let Some(slot) = stack.get_mut(top) {
-                    *slot = child;
-                    top += 1;
+            match (meet(at + 1), meet(node.first)) {
+                (Some(a), Some(b)) => {
+                    let (near, far) = if b.1 < a.1 { (b, a) } else { (a, b) };
+                    // Cannot fail: the tree is at most `STACK` deep.
+                    let _ = stack.push(far);
+                    next = Some(near);
                 }
+                (Some(a), None) => next = Some(a),
+                (None, Some(b)) => next = Some(b),
+                (None, None) => {}
             }
         }
     }
-}
-
-/// Whether a ray from `base` along the unit `d` can meet the node's sphere with `t` in
-/// `(0, limit)`: not wholly behind, not wholly beyond `limit`, and passing within the radius
-/// of the centre (perpendicular distance, no large squares subtracted).
-#[inline]
-fn meets<S: Scalar>(node: &Node<S>, base: Vec3<S>, d: Vec3<S>, limit: S) -> bool {
-    let f = node.center - base;
-    let b = f.dot(d);
-    if b + node.radius < S::ZERO || b - node.radius > limit {
-        return false;
-    }
-    let p = f - d * b;
-    !(p.dot(p) > node.radius_squared)
 }

@@ -14,7 +14,7 @@ pub mod sphere;
 pub mod texplane;
 pub mod tiled_plane;
 
-use crate::bvh::Tree;
+use crate::bvh::{Slabs, Tree};
 use crate::camera::Camera;
 use crate::error::{Attr, Entity, ErrorKind, Feature, Snippet};
 use crate::material::{Material, MaterialId};
@@ -402,16 +402,6 @@ impl<S: Scalar> Nearest<S> {
     }
 }
 
-/// A ray's unit direction and the length it was divided by.
-#[inline]
-fn unit_direction<S: Scalar>(ray: &Ray<S>) -> (Vec3<S>, S) {
-    if ray.len == S::ONE {
-        return (ray.dir, S::ONE);
-    }
-    let len = ray.length();
-    (ray.dir / len, len)
-}
-
 impl<S: Scalar> Among<'_, S> {
     /// Calls `visit` with each object's index and the object, in increasing order, until
     /// it breaks. (Not for trees, whose searches walk them.)
@@ -504,12 +494,11 @@ fn search_tree<S: Scalar>(
     for &index in tree.unbounded {
         test(nearest, usize::from(index));
     }
-    let (d, len) = unit_direction(ray);
+    let slabs = Slabs::new(ray.base, ray.dir);
     tree.walk(
-        ray.base,
-        d,
+        &slabs,
         nearest,
-        |nearest| nearest.limit * len,
+        |nearest| nearest.limit,
         |nearest, index| {
             test(nearest, index);
             false
@@ -617,14 +606,12 @@ fn any_hit_in_tree<S: Scalar>(
     limit: S,
     z_limit: S,
 ) -> bool {
-    let (d, len) = unit_direction(ray);
-    let limit_d = limit * len;
+    let slabs = Slabs::new(ray.base, ray.dir);
     let mut blocked = false;
     tree.walk(
-        ray.base,
-        d,
+        &slabs,
         &mut blocked,
-        |_| limit_d,
+        |_| limit,
         |blocked, index| {
             *blocked = index != skip
                 && objects.get(index).is_some_and(|object| {

@@ -429,17 +429,20 @@ impl Scalar for f32 {
     fn is_beyond_range(self) -> bool {
         !self.is_finite()
     }
-    /// `num` against `den limit` first: one product and three comparisons instead of
-    /// the division, for parameters that do not count.
+    /// Exact, mostly without the division: the signs first, then `num` against
+    /// `den limit (1 + 2^-20)`, which the rounded quotient cannot reach when it is below
+    /// `limit` (the two products round by half a unit each, the quotient by another); only
+    /// a product in the subnormal range decides nothing.
     #[inline]
     fn parameter_within(num: Self, den: Self, limit: Self) -> Option<Self> {
-        let bound = den * limit;
-        let within = if den > 0.0 {
-            num > 0.0 && num < bound
+        const SLACK: f32 = 1.0 + 1.0 / (1u32 << 20) as f32;
+        let bound = den * (limit * SLACK);
+        let beyond = if den > 0.0 {
+            !(num > 0.0) || num >= bound
         } else {
-            num < 0.0 && num > bound
+            !(num < 0.0) || num <= bound
         };
-        if !within {
+        if beyond && !(bound.abs() < f32::MIN_POSITIVE) {
             return None;
         }
         let q = num / den;

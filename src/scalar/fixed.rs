@@ -238,10 +238,15 @@ impl Scalar for I16F16 {
     #[inline]
     fn positive_dot(a: Vec3<Self>, b: Vec3<Self>) -> Option<Wide> {
         let (x, y) = (a.bits(), b.bits());
-        let sum = if in_halves() && all_below(&[x[0], x[1], x[2], y[0], y[1], y[2]], 6) {
-            dot_i64_small(x, y)
+        let p = |x: Self, y: Self| mul_i32(x.to_bits(), y.to_bits());
+        let sum = if all_below(&[x[0], x[1], x[2], y[0], y[1], y[2]], 6) {
+            // Below 64 the products are below 2^44: their sum cannot overflow.
+            if in_halves() {
+                dot_i64_small(x, y)
+            } else {
+                p(a.x, b.x) + p(a.y, b.y) + p(a.z, b.z)
+            }
         } else {
-            let p = |x: Self, y: Self| mul_i32(x.to_bits(), y.to_bits());
             p(a.x, b.x)
                 .saturating_add(p(a.y, b.y))
                 .saturating_add(p(a.z, b.z))

@@ -393,10 +393,17 @@ impl Wide {
         }
         let product = mul_u32(magnitude, self.mantissa);
         let shift = self.exponent.unsigned_abs();
-        // Half a unit of the result, added before the shift (the product is below 2^64 - 2^63).
-        let half = if shift <= 64 { 1u64 << (shift - 1) } else { 0 };
-        let shifted = shr_u64(product + half, shift);
-        match i32::try_from(shifted) {
+        let rounded = if shift > 32 {
+            // Half a unit of the result is in the high word: no 64-bit shift needed (the
+            // product is below 2^63, so its high word below 2^31).
+            let high = (product >> 32) as u32;
+            let half = 1u32.checked_shl(shift - 33).unwrap_or(0);
+            u64::from(high.saturating_add(half).checked_shr(shift - 32).unwrap_or(0))
+        } else {
+            // Half a unit of the result, added before the shift (the product is below 2^63).
+            shr_u64(product + (1u64 << (shift - 1)), shift)
+        };
+        match i32::try_from(rounded) {
             Ok(v) if bits < 0 => -v,
             Ok(v) => v,
             Err(_) => saturated,

@@ -357,7 +357,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         *c = *c + scaled(lit, S::wide_mul(cos_d, r));
         let material = surface.material;
         if cfg!(feature = "glint") && self.stages.glints && material.shininess != S::ZERO {
-            *c = *c + scaled(glint(light, surface, ray.dir, to_light), per_total);
+            *c = *c + glint(light, surface, ray.dir, to_light, per_total);
         }
         Some(per_total)
     }
@@ -434,24 +434,24 @@ fn in_cone<S: Scalar>(light: &Light<S>, to_light: Vec3<S>) -> bool {
         .is_none_or(|spot| S::within_cone(-to_light, spot.axis, spot.cos_theta))
 }
 
-/// A light's Blinn-Phong glint at a hit seen along `dir`, before the division by the
-/// distance travelled.
+/// A light's Blinn-Phong glint at a hit seen along `dir`, times `k` (the division by the
+/// distance travelled): `emissivity specular (h . n)^shininess`, the power kept as a wide
+/// number until the end (Q16.16's absolute step times a bright light is visible).
 #[inline(never)]
 fn glint<S: Scalar>(
     light: &Light<S>,
     surface: &Surface<'_, S>,
     dir: Vec3<S>,
     to_light: Vec3<S>,
+    k: S::Wide,
 ) -> Vec3<S> {
     let material = surface.material;
     let halfway = to_light
         .unit()
         .and_then(|l| (-dir).unit().and_then(|v| (v + l).unit()));
-    match halfway {
-        Some(h) => {
-            light.emissivity
-                * (material.specular * h.dot(surface.hit.normal).pow_positive(material.shininess))
-        }
+    let power = halfway.and_then(|h| h.dot(surface.hit.normal).pow_wide(material.shininess));
+    match power {
+        Some(power) => scaled(light.emissivity * material.specular, S::wide_mul(power, k)),
         None => Vec3::ZERO,
     }
 }

@@ -115,7 +115,19 @@ impl I16F16 {
 
     /// `2^y` for a Q.24 exponent: the integer part shifts, the fraction multiplies the
     /// constants `2^(2^-i)`.
-    fn exp2_q24(y: i64) -> Self {
+    /// `2^y` for a Q.24 exponent as a wide number: the fraction's Q2.30 mantissa and the
+    /// integer part as the exponent, so that small powers keep 30 significant bits.
+    fn exp2_q24_wide(y: i64) -> Option<Wide> {
+        let k = y >> 24;
+        if !(-1000..15).contains(&k) {
+            return None;
+        }
+        let p = Self::exp2_mantissa(y & ((1 << 24) - 1));
+        Some(Wide::from_u64(u64::from(p), k as i32 - 30))
+    }
+
+    /// `2^f` as Q2.30 for a Q.24 fraction `f` in `[0, 1)`.
+    fn exp2_mantissa(fraction: i64) -> u32 {
         // 2^(2^-i) as Q2.30, i = 1..24.
         const ROOTS: [u32; 24] = [
             1518500250, 1276901417, 1170923762, 1121280436, 1097253708, 1085434106, 1079572136,
@@ -123,14 +135,6 @@ impl I16F16 {
             1073764537, 1073753181, 1073747502, 1073744663, 1073743244, 1073742534, 1073742179,
             1073742001, 1073741913, 1073741868,
         ];
-        let k = y >> 24;
-        if k >= 15 {
-            return Self::MAX;
-        }
-        if k < -18 {
-            return Self::from_bits(0);
-        }
-        let fraction = y & ((1 << 24) - 1);
         let mut p: u32 = 1 << 30;
         for (i, root) in ROOTS.iter().enumerate() {
             if fraction & (1 << (23 - i)) != 0 {
@@ -138,6 +142,18 @@ impl I16F16 {
                 p = (mul_u32(p, *root) >> 30) as u32;
             }
         }
+        p
+    }
+
+    fn exp2_q24(y: i64) -> Self {
+        let k = y >> 24;
+        if k >= 15 {
+            return Self::MAX;
+        }
+        if k < -18 {
+            return Self::from_bits(0);
+        }
+        let p = Self::exp2_mantissa(y & ((1 << 24) - 1));
         // p is 2^fraction as Q2.30; the result in Q16.16 is p * 2^k >> 14, rounded.
         let shift = 14 - k; // 1..=32
         let rounded = shr_u64(u64::from(p) + (1u64 << (shift - 1)), shift as u32);
@@ -319,6 +335,15 @@ impl Scalar for I16F16 {
         }
         let y = (self.log2_q24() * i64::from(exponent.to_bits())) >> FRAC;
         Self::exp2_q24(y)
+    }
+    /// The power with 30 significant bits however small it is (a glint times a bright
+    /// light would multiply Q16.16's absolute step).
+    fn pow_wide(self, exponent: Self) -> Option<Wide> {
+        if self.to_bits() <= 0 {
+            return None;
+        }
+        let y = (self.log2_q24() * i64::from(exponent.to_bits())) >> FRAC;
+        Self::exp2_q24_wide(y)
     }
     #[inline]
     fn to_byte(self) -> u8 {

@@ -101,6 +101,12 @@ pub trait Scalar:
     fn positive_dot(a: Vec3<Self>, b: Vec3<Self>) -> Option<Self::Wide>;
     /// The value as a wide number, when it is above zero.
     fn to_wide(self) -> Option<Self::Wide>;
+    /// `self` to the power `exponent` as a wide number (for glints: see
+    /// [`pow_positive`](Self::pow_positive)); `None` when it is zero.
+    #[inline]
+    fn pow_wide(self, exponent: Self) -> Option<Self::Wide> {
+        self.pow_positive(exponent).to_wide()
+    }
     /// The product of two wide numbers.
     fn wide_mul(a: Self::Wide, b: Self::Wide) -> Self::Wide;
     /// The reciprocal of a wide number.

@@ -398,7 +398,11 @@ impl Wide {
             // product is below 2^63, so its high word below 2^31).
             let high = (product >> 32) as u32;
             let half = 1u32.checked_shl(shift - 33).unwrap_or(0);
-            u64::from(high.saturating_add(half).checked_shr(shift - 32).unwrap_or(0))
+            u64::from(
+                high.saturating_add(half)
+                    .checked_shr(shift - 32)
+                    .unwrap_or(0),
+            )
         } else {
             // Half a unit of the result, added before the shift (the product is below 2^63).
             shr_u64(product + (1u64 << (shift - 1)), shift)

@@ -442,12 +442,17 @@ impl Scalar for f32 {
     #[inline]
     fn parameter_within(num: Self, den: Self, limit: Self) -> Option<Self> {
         const SLACK: f32 = 1.0 + 1.0 / (1u32 << 20) as f32;
-        let bound = den * (limit * SLACK);
-        let beyond = if den > 0.0 {
-            !(num > 0.0) || num >= bound
+        // Behind the ray (or parallel to it): no quotient to compare.
+        let ahead = if den > 0.0 {
+            num > 0.0
         } else {
-            !(num < 0.0) || num <= bound
+            den < 0.0 && num < 0.0
         };
+        if !ahead {
+            return None;
+        }
+        let bound = den * (limit * SLACK);
+        let beyond = if den > 0.0 { num >= bound } else { num <= bound };
         if beyond && !(bound.abs() < f32::MIN_POSITIVE) {
             return None;
         }

@@ -119,14 +119,16 @@ fn stage(chain: &[String]) -> &'static str {
             .iter()
             .any(|name| patterns.iter().any(|p| name.contains(p)))
     };
-    let innermost = chain.first().map_or("", String::as_str);
     let primitive = |patterns: &[&str]| {
         chain
             .iter()
             .take(3)
             .any(|name| patterns.iter().any(|p| name.contains(p)))
     };
-    if innermost.starts_with("__") || innermost.contains("compiler_builtins") {
+    if chain
+        .iter()
+        .any(|n| n.starts_with("__") || n.contains("compiler_builtins"))
+    {
         return "soft float and compiler built-ins";
     }
     if primitive(&[
@@ -316,4 +318,97 @@ pub(crate) fn frame_counts(log: &str) -> BTreeMap<u64, HashMap<u64, u64>> {
         *frames.entry(frame).or_default().entry(address).or_insert(0) += count;
     }
     frames
+}
+
+/// Stage rows of one profile report (`docs/profile-LABEL.md`) by build (`machine in type`):
+/// the stages' instructions a pixel, then the total, VDIV and VSQRT a pixel.
+fn stages_of(text: &str) -> BTreeMap<String, (Vec<(String, f64)>, [f64; 3])> {
+    let mut builds = BTreeMap::new();
+    let mut current: Option<String> = None;
+    for line in text.lines() {
+        if let Some(title) = line.strip_prefix("### ") {
+            // `spec0 on mps2-an386 in f32 (320x240)` -> `mps2-an386 in f32`.
+            current = title
+                .split_once(" on ")
+                .map(|(_, rest)| rest.split(" (").next().unwrap_or(rest).to_string());
+            continue;
+        }
+        let Some(build) = &current else { continue };
+        let cells: Vec<&str> = line.trim_matches('|').split('|').map(str::trim).collect();
+        if cells.len() < 3 {
+            continue;
+        }
+        let entry = builds
+            .entry(build.clone())
+            .or_insert_with(|| (Vec::new(), [0.0; 3]));
+        if cells[0] == "**total**" {
+            let number = |s: &str| s.trim_matches('*').parse::<f64>().unwrap_or(0.0);
+            let per = |key: &str| {
+                cells[2]
+                    .split(',')
+                    .find_map(|part| part.trim().strip_prefix(key))
+                    .and_then(|v| v.trim().trim_end_matches("/pixel").parse::<f64>().ok())
+                    .unwrap_or(0.0)
+            };
+            entry.1 = [number(cells[1]), per("VDIV"), per("VSQRT")];
+            current = None;
+        } else if let Ok(value) = cells[1].parse::<f64>() {
+            if STAGES.contains(&cells[0]) {
+                entry.0.push((cells[0].to_string(), value));
+            }
+        }
+    }
+    builds
+}
+
+/// The before-and-after section of `docs/firmware.md`: spec0's stages at 320x240 from
+/// `docs/profile-before.md` and `docs/profile-after.md` (both written by `cargo xtask qemu
+/// --size 320x240 --only spec0 --profile LABEL`), and `docs/speed-log.md` (what each change
+/// bought, written by hand from such runs).
+pub(crate) fn comparison(root: &Path) -> String {
+    let read = |name: &str| std::fs::read_to_string(root.join("docs").join(name)).ok();
+    let (Some(before), Some(after)) = (read("profile-before.md"), read("profile-after.md")) else {
+        return String::new();
+    };
+    let (before, after) = (stages_of(&before), stages_of(&after));
+    let mut out = String::from(
+        "\n## Where the instructions go: spec0 at 320x240, before and after\n\n\
+         Instructions a pixel by stage, from the per-address counts of the QEMU plugin mapped \
+         to the innermost (inlined) function by the firmware's DWARF (`cargo xtask qemu --size \
+         320x240 --only spec0 --profile LABEL`; the function tables are in \
+         [profile-before.md](profile-before.md) and [profile-after.md](profile-after.md)). \
+         Before: the commit before the speed work (25e5e90), profiled with the same tool.\n",
+    );
+    for (build, (after_stages, after_total)) in &after {
+        let Some((before_stages, before_total)) = before.get(build) else {
+            continue;
+        };
+        let _ = write!(
+            out,
+            "\n### {build}\n\n| stage | before | after |\n|---|---|---|\n"
+        );
+        for stage in STAGES {
+            let get = |rows: &Vec<(String, f64)>| {
+                rows.iter().find(|(s, _)| s == stage).map_or(0.0, |(_, v)| *v)
+            };
+            let (b, a) = (get(before_stages), get(after_stages));
+            if b > 0.05 || a > 0.05 {
+                let _ = writeln!(out, "| {stage} | {b:.1} | {a:.1} |");
+            }
+        }
+        let _ = writeln!(
+            out,
+            "| **total** | **{:.0}** | **{:.0}** ({:.2}x fewer) |\n| VDIV + VSQRT a pixel | {:.2} | {:.2} |",
+            before_total[0],
+            after_total[0],
+            before_total[0] / after_total[0].max(1.0),
+            before_total[1] + before_total[2],
+            after_total[1] + after_total[2]
+        );
+    }
+    if let Some(log) = read("speed-log.md") {
+        out.push('\n');
+        out.push_str(&log);
+    }
+    out
 }

@@ -177,6 +177,7 @@ pub fn run(args: &[String]) -> Result<(), String> {
             conformance_dir(&root).as_deref(),
             &size,
         )?);
+        table.push_str(&profile::comparison(&root));
     }
     println!("{table}");
     if complete {

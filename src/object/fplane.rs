@@ -140,7 +140,6 @@ impl<S: Scalar> Rect<S> {
         hits: fplane_hits,
         normal: plane_normal,
         row_test: super::object_row_test,
-        row_hits: super::object_row_hits,
         #[cfg(feature = "print")]
         printer: fplane_print,
         material: object_material,

@@ -106,12 +106,9 @@ pub enum RowTest<S> {
     /// Every ray of the row meets the object at this `t`, within the z rule (a plane
     /// parallel to the x axis: `N . dir` is the same along the row).
     At(S),
-    /// Each ray is tested with the kind's `row_hits`, which may use these values.
-    Each([S; 3]),
+    /// Each ray is tested with the kind's `hits`.
+    Hits,
 }
-
-/// A kind's `row_hits` (see [`ObjectVTable::row_hits`]).
-pub type RowHits<S> = fn(&Object<S>, &[S; 3], &Ray<S>, S) -> Option<S>;
 
 /// The surface look-up of a kind (see [`ObjectVTable::surface`]).
 pub type SurfaceLookup<S> =
@@ -135,8 +132,6 @@ pub struct ObjectVTable<S: Scalar> {
     /// Prepares the test of one image row's primary rays (a cheaper primary-ray test, as
     /// a C programmer adds one: planes work out once what is the same along the row).
     pub row_test: fn(&Object<S>, &RowOrigin<S>) -> RowTest<S>,
-    /// `hits` for a primary ray of a row whose test is [`RowTest::Each`], with its values.
-    pub row_hits: RowHits<S>,
     /// Writes the object's block in scene text.
     #[cfg(feature = "print")]
     pub printer: fn(&Object<S>, &Palette<'_, S>, &mut dyn fmt::Write) -> fmt::Result,
@@ -270,19 +265,9 @@ impl<S: Scalar> Object<S> {
     }
 }
 
-/// The default `row_test`: every ray tested with `row_hits`.
+/// The default `row_test`: every ray tested with `hits`.
 pub fn object_row_test<S: Scalar>(_: &Object<S>, _: &RowOrigin<S>) -> RowTest<S> {
-    RowTest::Each([S::ZERO; 3])
-}
-
-/// The default `row_hits`: the kind's `hits`.
-pub fn object_row_hits<S: Scalar>(
-    obj: &Object<S>,
-    _: &[S; 3],
-    ray: &Ray<S>,
-    limit: S,
-) -> Option<S> {
-    obj.hits(ray, limit)
+    RowTest::Hits
 }
 
 /// The default `hits`: no hit, as the C `object_no_hit`.
@@ -538,11 +523,11 @@ pub fn closest_hit_in_row<S: Scalar>(
                     limit = *t;
                 }
             }
-            RowTest::Each(values) => {
+            RowTest::Hits => {
                 let Some(object) = objects.get(index) else {
                     continue;
                 };
-                if let Some(t) = (object.vtable.row_hits)(object, values, ray, limit) {
+                if let Some(t) = object.hits(ray, limit) {
                     if ray.base.z + ray.dir.z * t <= z_limit {
                         best = Some((index, t));
                         limit = t;

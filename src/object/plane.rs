@@ -2,7 +2,7 @@
 
 use super::{
     Hit, Object, ObjectVTable, Palette, RowOrigin, RowTest, Shape, Surface, object_material,
-    object_row_hits, object_surface,
+    object_surface,
 };
 use crate::error::{Attr, Entity, ErrorKind};
 use crate::material::MaterialId;
@@ -75,7 +75,7 @@ impl<S: Scalar> Plane<S> {
     pub fn row_test(&self, origin: &RowOrigin<S>) -> RowTest<S> {
         let n = self.unit_normal;
         if S::COURSE_ORDER || n.x != S::ZERO {
-            return RowTest::Each([S::ZERO; 3]);
+            return RowTest::Hits;
         }
         let ray = Ray::new(origin.eye, Vec3::new(S::ZERO, origin.dy, origin.dz));
         match self.nearest(&ray, S::UNBOUNDED) {
@@ -106,7 +106,6 @@ impl<S: Scalar> Plane<S> {
         hits: plane_hits,
         normal: plane_normal,
         row_test: plane_row_test,
-        row_hits: object_row_hits,
         #[cfg(feature = "print")]
         printer: plane_print,
         material: object_material,
@@ -152,7 +151,7 @@ pub fn plane_row_test<S: Scalar>(obj: &Object<S>, origin: &RowOrigin<S>) -> RowT
     match obj.shape() {
         Shape::Plane(plane) => plane.row_test(origin),
         Shape::TiledPlane(tiled) => tiled.rect.plane.row_test(origin),
-        _ => RowTest::Each([S::ZERO; 3]),
+        _ => RowTest::Hits,
     }
 }
 

@@ -128,7 +128,6 @@ impl<S: Scalar> Sphere<S> {
         hits: sphere_hits,
         normal: sphere_normal,
         row_test: super::object_row_test,
-        row_hits: super::object_row_hits,
         #[cfg(feature = "print")]
         printer: sphere_print,
         material: object_material,

@@ -85,7 +85,6 @@ impl<S: Scalar> TexPlane<S> {
         hits: texplane_hits,
         normal: plane_normal,
         row_test: super::object_row_test,
-        row_hits: super::object_row_hits,
         #[cfg(feature = "print")]
         printer: texplane_print,
         material: object_material,

@@ -75,7 +75,6 @@ impl<S: Scalar> TiledPlane<S> {
         hits: tiled_plane_hits,
         normal: plane_normal,
         row_test: super::plane::plane_row_test,
-        row_hits: super::object_row_hits,
         #[cfg(feature = "print")]
         printer: tiled_plane_print,
         material: tiled_plane_material,

@@ -452,7 +452,11 @@ impl Scalar for f32 {
             return None;
         }
         let bound = den * (limit * SLACK);
-        let beyond = if den > 0.0 { num >= bound } else { num <= bound };
+        let beyond = if den > 0.0 {
+            num >= bound
+        } else {
+            num <= bound
+        };
         if beyond && !(bound.abs() < f32::MIN_POSITIVE) {
             return None;
         }

@@ -389,7 +389,9 @@ pub(crate) fn comparison(root: &Path) -> String {
         );
         for stage in STAGES {
             let get = |rows: &Vec<(String, f64)>| {
-                rows.iter().find(|(s, _)| s == stage).map_or(0.0, |(_, v)| *v)
+                rows.iter()
+                    .find(|(s, _)| s == stage)
+                    .map_or(0.0, |(_, v)| *v)
             };
             let (b, a) = (get(before_stages), get(after_stages));
             if b > 0.05 || a > 0.05 {

@@ -352,10 +352,8 @@ fn stages_of(text: &str) -> BTreeMap<String, (Vec<(String, f64)>, [f64; 3])> {
             };
             entry.1 = [number(cells[1]), per("VDIV"), per("VSQRT")];
             current = None;
-        } else if let Ok(value) = cells[1].parse::<f64>() {
-            if STAGES.contains(&cells[0]) {
-                entry.0.push((cells[0].to_string(), value));
-            }
+        } else if let (Ok(value), true) = (cells[1].parse::<f64>(), STAGES.contains(&cells[0])) {
+            entry.0.push((cells[0].to_string(), value));
         }
     }
     builds

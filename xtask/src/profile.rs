@@ -320,9 +320,12 @@ pub(crate) fn frame_counts(log: &str) -> BTreeMap<u64, HashMap<u64, u64>> {
     frames
 }
 
+/// A build's stages (name, instructions a pixel) and its total, VDIV and VSQRT a pixel.
+type StageTable = (Vec<(String, f64)>, [f64; 3]);
+
 /// Stage rows of one profile report (`docs/profile-LABEL.md`) by build (`machine in type`):
 /// the stages' instructions a pixel, then the total, VDIV and VSQRT a pixel.
-fn stages_of(text: &str) -> BTreeMap<String, (Vec<(String, f64)>, [f64; 3])> {
+fn stages_of(text: &str) -> BTreeMap<String, StageTable> {
     let mut builds = BTreeMap::new();
     let mut current: Option<String> = None;
     for line in text.lines() {

@@ -43,76 +43,13 @@ fn reference(path: &Path) -> Image {
     let mut image = Framebuffer::new(renderer.size());
     render(&scene, &mut image).unwrap();
     let rgb = image.rgb().chunks(3).map(|p| [p[0], p[1], p[2]]).collect();
-    let ties = ties(&scene);
+    let ties = common::ties(&scene);
     Image {
         width: renderer.size().width as usize,
         rgb,
         ids: object_ids(&renderer),
         ties,
     }
-}
-
-fn ties(scene: &HostScene<'_, f64>) -> Vec<bool> {
-    let camera = scene.camera();
-    let mut ties = Vec::new();
-    for row in 0..camera.height() {
-        for x in 0..camera.width() {
-            let Some(ray) = camera.primary_ray(x, camera.height() - 1 - row) else {
-                ties.push(false);
-                continue;
-            };
-            let on_edge = scene.objects().iter().any(|object| {
-                let rect = match object.shape() {
-                    Shape::FPlane(rect) => rect,
-                    Shape::TexPlane(textured) => &textured.rect,
-                    _ => return false,
-                };
-                let Some(hit) = rect.plane.intersect(&ray) else {
-                    return false;
-                };
-                let [qx, qy] = rect.local(hit.point);
-                let [w, h] = rect.dimensions;
-                let tol = 1e-9 * w.max(h);
-                let inside = |q: f64, size: f64| q >= -tol && q <= size + tol;
-                let edge = |q: f64, size: f64| q.abs() <= tol || (q - size).abs() <= tol;
-                let on_rect_edge = (edge(qx, w) && inside(qy, h)) || (edge(qy, h) && inside(qx, w));
-                on_rect_edge
-                    || (inside(qx, w) && inside(qy, h) && on_texel_edge(scene, object, qx, qy))
-            });
-            ties.push(on_edge);
-        }
-    }
-    ties
-}
-
-/// Whether local coordinates `(qx, qy)` of a textured rectangle lie on an edge between two
-/// texels (in f64, within 1e-9 of a texel).
-fn on_texel_edge(
-    scene: &HostScene<'_, f64>,
-    object: &microray::Object<f64>,
-    qx: f64,
-    qy: f64,
-) -> bool {
-    let Shape::TexPlane(textured) = object.shape() else {
-        return false;
-    };
-    let Some(texture) = scene.textures().get(usize::from(textured.texture)) else {
-        return false;
-    };
-    let camera = scene.camera();
-    let [w, h] = textured.rect.dimensions;
-    let (across, up) = match textured.mode {
-        microray::object::TextureMode::Fit => (
-            qx / w * f64::from(texture.width()),
-            qy / h * f64::from(texture.height()),
-        ),
-        microray::object::TextureMode::Tile => (
-            qx / camera.world()[0] * f64::from(camera.width()),
-            qy / camera.world()[1] * f64::from(camera.height()),
-        ),
-    };
-    let near_whole = |v: f64| (v - v.round()).abs() <= 1e-9 * v.abs().max(1.0);
-    near_whole(across) || near_whole(up)
 }
 
 /// The no_std path: `S` into embedded-graphics-simulator's display.

@@ -223,6 +223,18 @@ fn reciprocal_estimate(n: u32) -> u32 {
     y
 }
 
+/// About `2^63 / n` for `n` in `[2^31, 2^32)` to 2^-16 relative: the table and one Newton
+/// step, for wide numbers (the shading needs about 16 bits, not the exact division's 31).
+#[inline]
+fn reciprocal_rough(n: u32) -> u32 {
+    let y = RECIPROCALS
+        .get(((n >> 24) & 0x7f) as usize)
+        .copied()
+        .unwrap_or(u32::MAX);
+    let e = mul_u32(n, y).wrapping_neg();
+    u32::try_from(mul_u32(y, (e >> 32) as u32) >> 31).unwrap_or(u32::MAX)
+}
+
 /// A divisor prepared for division: its magnitude, normalised, and its reciprocal.
 #[derive(Clone, Copy)]
 pub(crate) struct Divisor {
@@ -313,7 +325,7 @@ fn normalise_u64(v: u64) -> (u32, u32) {
 /// A positive number `mantissa 2^exponent` with a 32-bit mantissa whose top bit is set (or
 /// zero): the shading's intermediate products and quotients in fixed point, whose range
 /// (distances squared times distances) Q16.16 does not have. Every operation truncates to
-/// 32 significant bits (a relative error below 2^-31), the reciprocal to 2^-28.
+/// 32 significant bits (a relative error below 2^-31), the reciprocal to 2^-16.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Wide {
     mantissa: u32,
@@ -371,7 +383,7 @@ impl Wide {
             };
         }
         // 1 / (m 2^e) = (2^63 / m) 2^(-63 - e); the estimate of 2^63 / m is in [2^31, 2^32).
-        let estimate = reciprocal_estimate(self.mantissa).max(1 << 31);
+        let estimate = reciprocal_rough(self.mantissa).max(1 << 31);
         Self {
             mantissa: estimate,
             exponent: (-63i32).saturating_sub(self.exponent),
@@ -580,6 +592,13 @@ mod tests {
             let q = n / u64::from(m);
             let got = Divisor::new(m).unwrap().divide(n);
             prop_assert_eq!(got, (q < 1 << 31).then_some(q as u32));
+        }
+
+        #[test]
+        fn rough_reciprocals_within_2_to_the_minus_16(n in (1u32 << 31)..) {
+            let exact = (1u128 << 63) as f64 / f64::from(n);
+            let got = f64::from(reciprocal_rough(n));
+            prop_assert!((got - exact).abs() <= exact * 2f64.powi(-16), "{} vs {}", got, exact);
         }
 
         #[test]

@@ -9,7 +9,6 @@ use embedded_graphics::prelude::*;
 use embedded_graphics_simulator::SimulatorDisplay;
 use microray::Scalar;
 use microray::host::{Difference, Framebuffer, HostScene, object_ids, texture_files};
-use microray::object::Shape;
 use microray::parse::parse_scene;
 use microray::render::{Renderer, render};
 use microray::scalar::I16F16;

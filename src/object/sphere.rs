@@ -83,7 +83,8 @@ impl<S: Scalar> Sphere<S> {
             ray.dir.y.scale(inv),
             ray.dir.z.scale(inv),
         );
-        let t = self.nearest_unit(ray.base, unit, limit * len)?;
+        // The limit applies to the converted `t`: ties must not depend on a rounded limit.
+        let t = self.nearest_unit(ray.base, unit, S::UNBOUNDED)?;
         ahead(t.scale(inv), limit)
     }
 

@@ -405,21 +405,23 @@ impl Wide {
         }
         let product = mul_u32(magnitude, self.mantissa);
         let shift = self.exponent.unsigned_abs();
-        let rounded = if shift > 32 {
+        if shift >= 64 {
+            // Below half a step of the result.
+            return 0;
+        }
+        let value = if shift > 32 {
             // Half a unit of the result is in the high word: no 64-bit shift needed (the
-            // product is below 2^63, so its high word below 2^31).
+            // product is below 2^63, so its high word below 2^31, and the sum below 2^32).
             let high = (product >> 32) as u32;
-            let half = 1u32.checked_shl(shift - 33).unwrap_or(0);
-            u64::from(
-                high.saturating_add(half)
-                    .checked_shr(shift - 32)
-                    .unwrap_or(0),
-            )
+            (high + (1 << (shift - 33))) >> (shift - 32)
         } else {
             // Half a unit of the result, added before the shift (the product is below 2^63).
-            shr_u64(product + (1u64 << (shift - 1)), shift)
+            match u32::try_from(shr_u64(product + (1u64 << (shift - 1)), shift)) {
+                Ok(v) => v,
+                Err(_) => return saturated,
+            }
         };
-        match i32::try_from(rounded) {
+        match i32::try_from(value) {
             Ok(v) if bits < 0 => -v,
             Ok(v) => v,
             Err(_) => saturated,

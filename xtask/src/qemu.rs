@@ -234,6 +234,12 @@ pub(crate) fn measure(
     options: &Options,
 ) -> Result<Measurement, String> {
     let conformance = conformance_dir(root);
+    if conformance.is_none() {
+        eprintln!(
+            "warning: no course scenes (MICRORAY_CONFORMANCE, by default ../shared/conformance \
+             beside the project, is not a directory): only the project's scenes are rendered"
+        );
+    }
     which("qemu-system-arm")
         .ok_or("qemu-system-arm is not installed (apt-get install qemu-system-arm)")?;
     let size = format!("{width}x{height}");
@@ -293,6 +299,14 @@ pub(crate) fn measure(
         rows.extend(frames.into_iter().map(|r| Row { size, ..r }));
     }
     if let Some(label) = &options.profile {
+        if profiles.is_empty() {
+            return Err(format!(
+                "--profile {label}: no frame of the scenes asked for ({}) was rendered (the \
+                 course scenes come from MICRORAY_CONFORMANCE, by default ../shared/conformance \
+                 beside the project)",
+                if options.only.is_empty() { "all" } else { &options.only }
+            ));
+        }
         println!("{profiles}");
         let path = root.join("docs").join(format!("profile-{label}.md"));
         std::fs::write(&path, &profiles).map_err(|e| format!("{}: {e}", path.display()))?;

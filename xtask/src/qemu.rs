@@ -304,7 +304,11 @@ pub(crate) fn measure(
                 "--profile {label}: no frame of the scenes asked for ({}) was rendered (the \
                  course scenes come from MICRORAY_CONFORMANCE, by default ../shared/conformance \
                  beside the project)",
-                if options.only.is_empty() { "all" } else { &options.only }
+                if options.only.is_empty() {
+                    "all"
+                } else {
+                    &options.only
+                }
             ));
         }
         println!("{profiles}");

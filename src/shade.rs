@@ -466,7 +466,7 @@ fn reciprocal<S: Scalar>(total: S::Wide) -> S::Wide {
 /// Each component times a wide number.
 #[inline]
 fn scaled<S: Scalar>(v: Vec3<S>, k: S::Wide) -> Vec3<S> {
-    Vec3::new(v.x.scale(k), v.y.scale(k), v.z.scale(k))
+    S::scale3(v, k)
 }
 
 /// `dir - 2 (dir . n) n`.

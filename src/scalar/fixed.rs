@@ -290,6 +290,11 @@ impl Scalar for I16F16 {
     fn scale(self, factor: Wide) -> Self {
         Self::from_bits(factor.scale_bits(self.to_bits()))
     }
+    #[inline]
+    fn scale3(v: Vec3<Self>, factor: Wide) -> Vec3<Self> {
+        let [x, y, z] = factor.scale_bits3(v.bits());
+        Vec3::new(Self::from_bits(x), Self::from_bits(y), Self::from_bits(z))
+    }
 
     /// Saturated at either end: every operation saturates instead of wrapping, so a result
     /// at the ends of the range may stand for a larger one. (Distances within a scene of

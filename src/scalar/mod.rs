@@ -113,6 +113,11 @@ pub trait Scalar:
     fn wide_recip(a: Self::Wide) -> Self::Wide;
     /// `self` times a wide number (saturated where the type's range ends).
     fn scale(self, factor: Self::Wide) -> Self;
+    /// Each component of `v` times a wide number (a colour times a shading quotient).
+    #[inline]
+    fn scale3(v: Vec3<Self>, factor: Self::Wide) -> Vec3<Self> {
+        Vec3::new(v.x.scale(factor), v.y.scale(factor), v.z.scale(factor))
+    }
 
     /// The nearest value of this type (saturating where the type's range ends).
     fn from_f64(value: f64) -> Self;

@@ -428,6 +428,51 @@ impl Wide {
         }
     }
 
+    /// [`scale_bits`](Self::scale_bits) of three values by the same number, with the
+    /// checks and the shift worked out once (the same results: a colour times a quotient).
+    #[inline]
+    pub(crate) fn scale_bits3(self, bits: [i32; 3]) -> [i32; 3] {
+        if self.mantissa == 0 {
+            return [0; 3];
+        }
+        if self.exponent >= 0 {
+            return bits.map(|b| match b {
+                0 => 0,
+                b if b < 0 => i32::MIN,
+                _ => i32::MAX,
+            });
+        }
+        let shift = self.exponent.unsigned_abs();
+        if shift >= 64 {
+            return [0; 3];
+        }
+        let m = self.mantissa;
+        let signed = |bits: i32, value: u32| match i32::try_from(value) {
+            Ok(v) if bits < 0 => -v,
+            Ok(v) => v,
+            Err(_) if bits < 0 => i32::MIN,
+            Err(_) => i32::MAX,
+        };
+        if shift > 32 {
+            // As in `scale_bits`: half a unit of the result is in the high word.
+            let (half, down) = (1u32 << (shift - 33), shift - 32);
+            bits.map(|b| {
+                let high = (mul_u32(b.unsigned_abs(), m) >> 32) as u32;
+                signed(b, (high + half) >> down)
+            })
+        } else {
+            let half = 1u64 << (shift - 1);
+            bits.map(|b| {
+                let product = mul_u32(b.unsigned_abs(), m);
+                match u32::try_from(shr_u64(product + half, shift)) {
+                    Ok(v) => signed(b, v),
+                    Err(_) if b < 0 => i32::MIN,
+                    Err(_) => i32::MAX,
+                }
+            })
+        }
+    }
+
     /// The value as an `f64` (tests and reports).
     pub fn to_f64(self) -> f64 {
         libm::ldexp(f64::from(self.mantissa), self.exponent)
@@ -601,6 +646,15 @@ mod tests {
             let exact = (1u128 << 63) as f64 / f64::from(n);
             let got = f64::from(reciprocal_rough(n));
             prop_assert!((got - exact).abs() <= exact * 2f64.powi(-16), "{} vs {}", got, exact);
+        }
+
+        #[test]
+        fn three_scales_equal_one_at_a_time(m: u32, e in -80i32..8, b: [i32; 3]) {
+            let w = Wide { mantissa: m | 1 << 31, exponent: e };
+            prop_assert_eq!(w.scale_bits3(b), b.map(|b| w.scale_bits(b)));
+            let small = b.map(|b| b >> 12);
+            prop_assert_eq!(w.scale_bits3(small), small.map(|b| w.scale_bits(b)));
+            prop_assert_eq!(Wide::ZERO.scale_bits3(b), [0; 3]);
         }
 
         #[test]

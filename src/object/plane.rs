@@ -101,16 +101,53 @@ impl<S: Scalar> Plane<S> {
     }
 
     /// The plane kind's function table.
-    pub const VTABLE: ObjectVTable<S> = ObjectVTable {
-        kind: Entity::Plane,
-        hits: plane_hits,
-        normal: plane_normal,
-        row_test: plane_row_test,
-        #[cfg(feature = "print")]
-        printer: plane_print,
-        material: object_material,
-        surface: plane_surface,
-    };
+    pub const VTABLE: ObjectVTable<S> = Self::table(plane_hits);
+
+    /// The tables of planes whose unit normal is `+x`, `-x`, `+y`, `-y`, `+z` or `-z`
+    /// (floors and walls): their `hits` reads one coordinate where the general one takes
+    /// two dot products. Exact: `N . v` with such an `N` is that coordinate or its negation
+    /// in every number type (the other products are zeros, which add nothing).
+    pub const AXIS_VTABLES: [ObjectVTable<S>; 6] = [
+        Self::table(axis_plane_hits::<S, 0, false>),
+        Self::table(axis_plane_hits::<S, 0, true>),
+        Self::table(axis_plane_hits::<S, 1, false>),
+        Self::table(axis_plane_hits::<S, 1, true>),
+        Self::table(axis_plane_hits::<S, 2, false>),
+        Self::table(axis_plane_hits::<S, 2, true>),
+    ];
+
+    const fn table(hits: fn(&Object<S>, &Ray<S>, S) -> Option<S>) -> ObjectVTable<S> {
+        ObjectVTable {
+            kind: Entity::Plane,
+            hits,
+            normal: plane_normal,
+            row_test: plane_row_test,
+            #[cfg(feature = "print")]
+            printer: plane_print,
+            material: object_material,
+            surface: plane_surface,
+        }
+    }
+
+    /// Which of [`AXIS_VTABLES`](Self::AXIS_VTABLES) fits this plane: `2 axis + 1` for a
+    /// unit normal of `-1` along `axis`, `2 axis` for `+1`; `None` for other normals.
+    pub fn axis_table(&self) -> Option<usize> {
+        let n = self.unit_normal;
+        let (z, one) = (S::ZERO, S::ONE);
+        let (axis, value) = match (n.x == z, n.y == z, n.z == z) {
+            (false, true, true) => (0, n.x),
+            (true, false, true) => (1, n.y),
+            (true, true, false) => (2, n.z),
+            _ => return None,
+        };
+        if value == one {
+            Some(2 * axis)
+        } else if value == -one {
+            Some(2 * axis + 1)
+        } else {
+            None
+        }
+    }
 }
 
 /// The seed's `plane_init`: the common part, then the plane's own table and data.
@@ -120,12 +157,17 @@ pub fn plane_init<S: Scalar>(
     def: &PlaneDef,
     scale: f64,
 ) -> Result<Object<S>, ErrorKind> {
-    Object::init(
-        &Plane::VTABLE,
-        name,
-        material,
-        Shape::Plane(Plane::build(def, scale)?),
-    )
+    let plane = Plane::build(def, scale)?;
+    let vtable = match plane.axis_table() {
+        Some(0) => &Plane::AXIS_VTABLES[0],
+        Some(1) => &Plane::AXIS_VTABLES[1],
+        Some(2) => &Plane::AXIS_VTABLES[2],
+        Some(3) => &Plane::AXIS_VTABLES[3],
+        Some(4) => &Plane::AXIS_VTABLES[4],
+        Some(5) => &Plane::AXIS_VTABLES[5],
+        _ => &Plane::VTABLE,
+    };
+    Object::init(vtable, name, material, Shape::Plane(plane))
 }
 
 /// `hits` of a plane.
@@ -134,6 +176,29 @@ pub fn plane_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>, limit: S) -> Option<
         Shape::Plane(plane) => plane.nearest(ray, limit),
         _ => None,
     }
+}
+
+/// `hits` of a plane whose unit normal is `+1` (or `-1` when `NEGATIVE`) along axis
+/// `AXIS`: [`Plane::nearest`] with the dot products read off one coordinate.
+pub fn axis_plane_hits<S: Scalar, const AXIS: u8, const NEGATIVE: bool>(
+    obj: &Object<S>,
+    ray: &Ray<S>,
+    limit: S,
+) -> Option<S> {
+    let Shape::Plane(plane) = obj.shape() else {
+        return None;
+    };
+    let (dir, base) = match AXIS {
+        0 => (ray.dir.x, ray.base.x),
+        1 => (ray.dir.y, ray.base.y),
+        _ => (ray.dir.z, ray.base.z),
+    };
+    let (dir, base) = if NEGATIVE {
+        (-dir, -base)
+    } else {
+        (dir, base)
+    };
+    S::parameter_within(plane.n_dot_point - base, dir, limit)
 }
 
 /// `surface` of the plane and the finite plane: the unit normal, the object's material.
@@ -239,6 +304,64 @@ mod tests {
             ),
             Err(ErrorKind::ZeroVector { attr: Attr::Normal })
         );
+    }
+
+    /// The axis tables' `hits` against the general one, in one number type.
+    fn axis_hits_equal_general<S: Scalar>(v: &[f64; 8], limit: f64) {
+        for (axis, n) in [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+            .into_iter()
+            .enumerate()
+        {
+            for sign in [1.0, -1.0] {
+                let def = PlaneDef {
+                    normal: n.map(|c| c * sign * 3.0),
+                    point: [v[0], v[0], v[0]],
+                };
+                let obj = plane_init::<S>("p", 0, &def, 1.0).unwrap();
+                let Shape::Plane(plane) = obj.shape() else {
+                    panic!("not a plane")
+                };
+                let table = 2 * axis + usize::from(sign < 0.0);
+                assert_eq!(plane.axis_table(), Some(table));
+                let ray = Ray::new(
+                    Vec3::new(v[1], v[2], v[3]).cast::<S>(),
+                    Vec3::new(v[4], v[5], v[6]).cast::<S>(),
+                );
+                let limit = S::from_f64(limit);
+                let axis_hits = Plane::AXIS_VTABLES[table].hits;
+                assert_eq!(axis_hits(&obj, &ray, limit), plane.nearest(&ray, limit), "{v:?}");
+                assert_eq!(obj.hits(&ray, limit), plane.nearest(&ray, limit), "{v:?}");
+                assert_eq!(obj.hits(&ray, S::UNBOUNDED), plane.nearest(&ray, S::UNBOUNDED));
+            }
+        }
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn axis_tables_hit_where_the_general_plane_does(
+            v in proptest::array::uniform8(-100.0f64..100.0),
+            limit in 0.0f64..300.0,
+        ) {
+            // Zeros in the direction too: parallel rays.
+            let mut w = v;
+            w[5] = if w[7] > 50.0 { 0.0 } else { w[5] };
+            axis_hits_equal_general::<f64>(&w, limit);
+            axis_hits_equal_general::<f32>(&w, limit);
+            axis_hits_equal_general::<crate::scalar::I16F16>(&w, limit);
+        }
+    }
+
+    #[test]
+    fn other_normals_keep_the_general_table() {
+        let p = Plane::<f32>::build(
+            &PlaneDef {
+                normal: [0.0, 1.0, 1.0],
+                point: [0.0; 3],
+            },
+            1.0,
+        )
+        .unwrap();
+        assert_eq!(p.axis_table(), None);
     }
 
     #[test]

@@ -341,7 +341,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let hit = &surface.hit;
         let to_light = light.location - hit.point;
         // cos > 0 and d > 0.
-        let cos_d = S::positive_dot(to_light, hit.normal)?;
+        let cos_d = S::positive_dot_unit(to_light, hit.normal)?;
         let d_squared = S::positive_dot(to_light, to_light)?;
         if cfg!(feature = "spotlight") && light.spot.is_some() && !in_cone(light, to_light) {
             return None;
@@ -472,7 +472,7 @@ fn scaled<S: Scalar>(v: Vec3<S>, k: S::Wide) -> Vec3<S> {
 /// `dir - 2 (dir . n) n`.
 #[inline]
 pub fn reflect<S: Scalar>(dir: Vec3<S>, n: Vec3<S>) -> Vec3<S> {
-    dir - n * (S::TWO * dir.dot(n))
+    dir - n * (S::TWO * S::dot_unit(dir, n))
 }
 
 #[cfg(test)]

@@ -232,6 +232,62 @@ impl Div for I16F16 {
     }
 }
 
+/// The axis of a vector that is one (`false`) or minus one (`true`) along it and zero
+/// elsewhere: 0 for x, 1 for y, 2 for z.
+#[inline]
+fn axis_of(n: Vec3<I16F16>) -> Option<(usize, bool)> {
+    const ONE: u32 = 1 << FRAC;
+    let [x, y, z] = n.bits();
+    // Floors first, then walls.
+    let (coordinate, value) = if x == 0 && z == 0 {
+        (1, y)
+    } else if x == 0 && y == 0 {
+        (2, z)
+    } else if y == 0 && z == 0 {
+        (0, x)
+    } else {
+        return None;
+    };
+    (value.unsigned_abs() == ONE).then_some((coordinate, value < 0))
+}
+
+/// `v . n`, read off one coordinate when `n` is one along an axis. Exact: the other
+/// products are zero and the one left is the coordinate times 2^16, which the truncation
+/// gives back.
+#[inline]
+fn dot_along_axis(v: Vec3<I16F16>, n: Vec3<I16F16>) -> I16F16 {
+    match axis_of(n) {
+        Some((coordinate, false)) => v.at(coordinate),
+        Some((coordinate, true)) => -v.at(coordinate),
+        None => I16F16::dot(v, n),
+    }
+}
+
+/// `positive_dot(v, n)` as [`dot_along_axis`]: the sum is the coordinate times 2^16, the
+/// same wide number.
+#[inline]
+fn positive_dot_along_axis(v: Vec3<I16F16>, n: Vec3<I16F16>) -> Option<Wide> {
+    // In 64 bits: minus the most negative value is not saturated here.
+    let value = match axis_of(n) {
+        Some((coordinate, false)) => i64::from(v.at(coordinate).to_bits()),
+        Some((coordinate, true)) => -i64::from(v.at(coordinate).to_bits()),
+        None => return I16F16::positive_dot(v, n),
+    };
+    (value > 0).then(|| Wide::from_u64(value as u64, -16))
+}
+
+impl Vec3<I16F16> {
+    /// The coordinate `0` (x), `1` (y) or `2` (z).
+    #[inline]
+    fn at(self, coordinate: usize) -> I16F16 {
+        match coordinate {
+            0 => self.x,
+            1 => self.y,
+            _ => self.z,
+        }
+    }
+}
+
 impl Scalar for I16F16 {
     const NAME: &'static str = "i16f16";
     const ZERO: Self = Self::from_bits(0);
@@ -268,6 +324,25 @@ impl Scalar for I16F16 {
                 .saturating_add(p(a.z, b.z))
         };
         (sum > 0).then(|| Wide::from_u64(sum as u64, -32))
+    }
+    /// Along an axis on Cortex-M0 (see [`dot_along_axis`]), where products are dear;
+    /// elsewhere the test would cost what it saves.
+    #[inline]
+    fn dot_unit(v: Vec3<Self>, n: Vec3<Self>) -> Self {
+        if in_halves() {
+            dot_along_axis(v, n)
+        } else {
+            Self::dot(v, n)
+        }
+    }
+    /// As [`dot_unit`](Self::dot_unit), with [`positive_dot_along_axis`].
+    #[inline]
+    fn positive_dot_unit(v: Vec3<Self>, n: Vec3<Self>) -> Option<Wide> {
+        if in_halves() {
+            positive_dot_along_axis(v, n)
+        } else {
+            Self::positive_dot(v, n)
+        }
     }
     #[inline]
     fn next_up(self) -> Self {
@@ -589,6 +664,23 @@ mod tests {
             }
             prop_assert_eq!((x + y).0, x.0.saturating_add(y.0));
             prop_assert_eq!((x - y).0, x.0.saturating_sub(y.0));
+        }
+
+        #[test]
+        fn dots_with_axis_normals_equal_the_general_ones(v: [i32; 3], axis in 0usize..3, negative: bool, other: [i32; 3]) {
+            let v = Vec3::new(I16F16::from_bits(v[0]), I16F16::from_bits(v[1]), I16F16::from_bits(v[2]));
+            let mut n = [0i32; 3];
+            n[axis] = if negative { -(1 << FRAC) } else { 1 << FRAC };
+            let n = Vec3::new(I16F16::from_bits(n[0]), I16F16::from_bits(n[1]), I16F16::from_bits(n[2]));
+            prop_assert_eq!(dot_along_axis(v, n), I16F16::dot(v, n));
+            prop_assert_eq!(positive_dot_along_axis(v, n), I16F16::positive_dot(v, n));
+            // Not along an axis: the general products.
+            let m = Vec3::new(I16F16::from_bits(other[0]), I16F16::from_bits(other[1] | 1), I16F16::from_bits(other[2] | 1));
+            prop_assert_eq!(dot_along_axis(v, m), I16F16::dot(v, m));
+            prop_assert_eq!(positive_dot_along_axis(v, m), I16F16::positive_dot(v, m));
+            let extreme = Vec3::new(I16F16::MIN, I16F16::MIN, I16F16::MIN);
+            prop_assert_eq!(dot_along_axis(extreme, n), I16F16::dot(extreme, n));
+            prop_assert_eq!(positive_dot_along_axis(extreme, n), I16F16::positive_dot(extreme, n));
         }
 
         #[test]

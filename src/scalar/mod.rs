@@ -167,6 +167,18 @@ pub trait Scalar:
     fn dot(a: Vec3<Self>, b: Vec3<Self>) -> Self {
         a.x * b.x + a.y * b.y + a.z * b.z
     }
+    /// `v . n` for a unit normal `n`: [`dot`](Self::dot), or what it gives read off one
+    /// coordinate where a type gains by it (fixed point, for normals along an axis).
+    #[inline]
+    fn dot_unit(v: Vec3<Self>, n: Vec3<Self>) -> Self {
+        Self::dot(v, n)
+    }
+    /// [`positive_dot`](Self::positive_dot) of `v` and a unit normal `n`, as
+    /// [`dot_unit`](Self::dot_unit) is to [`dot`](Self::dot).
+    #[inline]
+    fn positive_dot_unit(v: Vec3<Self>, n: Vec3<Self>) -> Option<Self::Wide> {
+        Self::positive_dot(v, n)
+    }
     /// The length of a vector.
     #[inline]
     fn length(v: Vec3<Self>) -> Self {

@@ -77,43 +77,43 @@ fn shr_u64_halves(v: u64, s: u32) -> u64 {
 }
 
 /// Leading zeros of a `u32`: ARMv6-M has no CLZ, and `u32::leading_zeros` becomes a call
-/// to a general routine; a binary search in four steps is shorter.
+/// to a general routine; two comparisons and a table of bytes are shorter.
 #[inline]
 pub(crate) fn leading_zeros(v: u32) -> u32 {
     if HALVES {
-        leading_zeros_search(v)
+        leading_zeros_table(v)
     } else {
         v.leading_zeros()
     }
 }
 
-/// [`leading_zeros`] by binary search.
+/// Leading zeros of each byte value (8 for zero).
+const BYTE_LEADING_ZEROS: [u8; 256] = {
+    let mut table = [0u8; 256];
+    let mut i = 0;
+    while i < 256 {
+        table[i] = (i as u8).leading_zeros() as u8;
+        i += 1;
+    }
+    table
+};
+
+/// [`leading_zeros`] from the byte that holds the top set bit.
 #[inline]
-fn leading_zeros_search(v: u32) -> u32 {
-    if v == 0 {
-        return 32;
-    }
-    let (mut v, mut n) = (v, 0);
-    if v >> 16 == 0 {
-        n += 16;
-        v <<= 16;
-    }
-    if v >> 24 == 0 {
-        n += 8;
-        v <<= 8;
-    }
-    if v >> 28 == 0 {
-        n += 4;
-        v <<= 4;
-    }
-    if v >> 30 == 0 {
-        n += 2;
-        v <<= 2;
-    }
-    if v >> 31 == 0 {
-        n += 1;
-    }
-    n
+fn leading_zeros_table(v: u32) -> u32 {
+    let (skipped, byte) = if v >> 16 != 0 {
+        if v >> 24 != 0 {
+            (0, v >> 24)
+        } else {
+            (8, (v >> 16) & 0xff)
+        }
+    } else if v >> 8 != 0 {
+        (16, (v >> 8) & 0xff)
+    } else {
+        (24, v & 0xff)
+    };
+    let zeros = BYTE_LEADING_ZEROS.get(byte as usize).copied().unwrap_or(8);
+    skipped + u32::from(zeros)
 }
 
 /// Leading zeros of a non-zero `u64`.
@@ -597,10 +597,10 @@ mod tests {
         fn bounds_and_leading_zeros(v: i32, w: u32) {
             let inside = i64::from(v).abs() < (1 << 22) || v == -(1 << 22);
             prop_assert_eq!(all_below(&[v], 6), inside);
-            prop_assert_eq!(leading_zeros_search(w), w.leading_zeros());
             let shifted = w >> (w % 32);
-            prop_assert_eq!(leading_zeros_search(shifted), shifted.leading_zeros());
-            prop_assert_eq!(leading_zeros_search(0), 32);
+            prop_assert_eq!(leading_zeros_table(w), w.leading_zeros());
+            prop_assert_eq!(leading_zeros_table(shifted), shifted.leading_zeros());
+            prop_assert_eq!(leading_zeros_table(0), 32);
         }
 
         #[test]

@@ -472,7 +472,7 @@ fn scaled<S: Scalar>(v: Vec3<S>, k: S::Wide) -> Vec3<S> {
 /// `dir - 2 (dir . n) n`.
 #[inline]
 pub fn reflect<S: Scalar>(dir: Vec3<S>, n: Vec3<S>) -> Vec3<S> {
-    dir - n * (S::TWO * S::dot_unit(dir, n))
+    S::reflect(dir, n)
 }
 
 #[cfg(test)]

@@ -263,6 +263,26 @@ fn dot_along_axis(v: Vec3<I16F16>, n: Vec3<I16F16>) -> I16F16 {
     }
 }
 
+/// `dir - 2 (dir . n) n`, with one coordinate changed when `n` is one along an axis.
+/// Exact: `n k` is then `k` or `-k` there (both saturating as the product does) and zero
+/// elsewhere, and subtracting zero changes nothing.
+#[inline]
+fn reflect_along_axis(dir: Vec3<I16F16>, n: Vec3<I16F16>) -> Vec3<I16F16> {
+    let Some((coordinate, negative)) = axis_of(n) else {
+        return dir - n * (I16F16::TWO * I16F16::dot(dir, n));
+    };
+    let along = dir.at(coordinate);
+    let twice = I16F16::TWO * if negative { -along } else { along };
+    let change = if negative { -twice } else { twice };
+    let mut out = dir;
+    match coordinate {
+        0 => out.x = along - change,
+        1 => out.y = along - change,
+        _ => out.z = along - change,
+    }
+    out
+}
+
 /// `positive_dot(v, n)` as [`dot_along_axis`]: the sum is the coordinate times 2^16, the
 /// same wide number.
 #[inline]
@@ -333,6 +353,16 @@ impl Scalar for I16F16 {
             dot_along_axis(v, n)
         } else {
             Self::dot(v, n)
+        }
+    }
+    /// Along an axis on Cortex-M0, as [`dot_unit`](Self::dot_unit) (see
+    /// [`reflect_along_axis`]).
+    #[inline]
+    fn reflect(dir: Vec3<Self>, n: Vec3<Self>) -> Vec3<Self> {
+        if in_halves() {
+            reflect_along_axis(dir, n)
+        } else {
+            dir - n * (Self::TWO * Self::dot(dir, n))
         }
     }
     /// As [`dot_unit`](Self::dot_unit), with [`positive_dot_along_axis`].
@@ -678,9 +708,13 @@ mod tests {
             let m = Vec3::new(I16F16::from_bits(other[0]), I16F16::from_bits(other[1] | 1), I16F16::from_bits(other[2] | 1));
             prop_assert_eq!(dot_along_axis(v, m), I16F16::dot(v, m));
             prop_assert_eq!(positive_dot_along_axis(v, m), I16F16::positive_dot(v, m));
+            let general = |d: Vec3<I16F16>, n: Vec3<I16F16>| d - n * (I16F16::TWO * I16F16::dot(d, n));
+            prop_assert_eq!(reflect_along_axis(v, n), general(v, n));
+            prop_assert_eq!(reflect_along_axis(v, m), general(v, m));
             let extreme = Vec3::new(I16F16::MIN, I16F16::MIN, I16F16::MIN);
             prop_assert_eq!(dot_along_axis(extreme, n), I16F16::dot(extreme, n));
             prop_assert_eq!(positive_dot_along_axis(extreme, n), I16F16::positive_dot(extreme, n));
+            prop_assert_eq!(reflect_along_axis(extreme, n), general(extreme, n));
         }
 
         #[test]

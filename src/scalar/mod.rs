@@ -179,6 +179,11 @@ pub trait Scalar:
     fn positive_dot_unit(v: Vec3<Self>, n: Vec3<Self>) -> Option<Self::Wide> {
         Self::positive_dot(v, n)
     }
+    /// The mirror direction of `dir` about a unit normal `n`: `dir - 2 (dir . n) n`.
+    #[inline]
+    fn reflect(dir: Vec3<Self>, n: Vec3<Self>) -> Vec3<Self> {
+        dir - n * (Self::TWO * Self::dot_unit(dir, n))
+    }
     /// The length of a vector.
     #[inline]
     fn length(v: Vec3<Self>) -> Self {

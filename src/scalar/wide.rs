@@ -87,7 +87,9 @@ pub(crate) fn leading_zeros(v: u32) -> u32 {
     }
 }
 
-/// Leading zeros of each byte value (8 for zero).
+/// Leading zeros of each byte value (8 for zero). (Indexing in a constant cannot fail at
+/// run time: a bad index would not compile.)
+#[allow(clippy::indexing_slicing)]
 const BYTE_LEADING_ZEROS: [u8; 256] = {
     let mut table = [0u8; 256];
     let mut i = 0;

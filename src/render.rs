@@ -26,7 +26,7 @@ use crate::plan::Plan;
 use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::scene::Scene;
-use crate::shade::Shader;
+use crate::shade::{Shader, ShadowCache};
 use crate::vec3::Vec3;
 use core::ops::ControlFlow;
 use embedded_graphics::pixelcolor::Rgb888;
@@ -334,7 +334,9 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
         let left = u16::try_from(area.top_left.x).unwrap_or(0);
         let top = u16::try_from(area.top_left.y).unwrap_or(0);
         let total = u16::try_from(area.size.height).unwrap_or(0);
-        let shader = self.shader();
+        // One cache per render: neighbouring pixels share their shadows' blockers.
+        let cache = ShadowCache::new();
+        let shader = self.shader().with_shadow_cache(&cache);
         for done in 1..=total {
             let y = top.saturating_add(done - 1);
             let camera_y = self.camera.height().saturating_sub(1).saturating_sub(y);

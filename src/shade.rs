@@ -21,13 +21,14 @@
 use crate::bvh::Tree;
 use crate::light::Light;
 use crate::object::{
-    Among, Hit, Object, Palette, RowEntry, Surface, Z_LIMIT, any_hit_among, closest_hit_among,
-    closest_hit_in_row,
+    Among, Hit, Object, Palette, RowEntry, Surface, Z_LIMIT, any_hit_among, any_hit_remembering,
+    closest_hit_among, closest_hit_in_row,
 };
 use crate::plan::Stages;
 use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;
+use core::cell::Cell;
 
 /// Rays stop once the distance travelled from the eye exceeds this (the course's bound).
 pub const MAX_DISTANCE: f64 = 32.0;
@@ -36,6 +37,34 @@ pub const MAX_DISTANCE: f64 = 32.0;
 /// The course's own scenes reach depth 12 (spec3, in the corner of two mirrors); the bound
 /// protects a microcontroller's stack from scenes whose rays take tiny steps.
 pub const MAX_DEPTH: u8 = 16;
+
+/// Lights whose last blocker is remembered (see [`ShadowCache`]).
+pub const CACHED_LIGHTS: usize = 8;
+
+/// The object that blocked each light's last shadow ray through a tree, which the next one
+/// tests first (the classic shadow cache: neighbouring pixels in a shadow are mostly in the
+/// same object's). Exact: a hit by any object answers an any-hit test, and a tree walk
+/// reaches every object a ray can hit. One per render (it is not `Sync`: a thread
+/// rendering rows keeps its own).
+#[derive(Clone, Debug)]
+pub struct ShadowCache {
+    last: [Cell<u16>; CACHED_LIGHTS],
+}
+
+impl Default for ShadowCache {
+    fn default() -> Self {
+        Self {
+            last: core::array::from_fn(|_| Cell::new(crate::object::NONE_REMEMBERED)),
+        }
+    }
+}
+
+impl ShadowCache {
+    /// Nothing remembered.
+    pub fn new() -> Self {
+        Self::default()
+    }
+}
 
 /// What shading needs from a scene: its objects, lights and surface look-ups.
 #[derive(Clone, Copy, Debug)]
@@ -47,6 +76,7 @@ pub struct Shader<'s, S: Scalar> {
     z_limit: S,
     stages: Stages,
     among: Among<'s, S>,
+    shadow_cache: Option<&'s ShadowCache>,
 }
 
 impl<'s, S: Scalar> Shader<'s, S> {
@@ -60,7 +90,30 @@ impl<'s, S: Scalar> Shader<'s, S> {
             z_limit: S::from_f64(Z_LIMIT * palette.scale),
             stages: Stages::ALL,
             among: Among::All,
+            shadow_cache: None,
         }
+    }
+
+    /// The same shader remembering each light's last blocker in `cache` (see
+    /// [`ShadowCache`]); the pixels are the same with it and without.
+    pub fn with_shadow_cache<'c>(self, cache: &'c ShadowCache) -> Shader<'c, S>
+    where
+        's: 'c,
+    {
+        Shader {
+            shadow_cache: Some(cache),
+            ..self
+        }
+    }
+
+    /// The shadow cache's slot of `light` (one of the shader's lights), if there is one.
+    fn remembered(&self, light: &Light<S>) -> Option<&Cell<u16>> {
+        // Its index from its address: the light loops pass references into `lights`, and
+        // threading an index through them costs every scene registers (measured).
+        let offset =
+            (light as *const Light<S> as usize).wrapping_sub(self.lights.as_ptr() as usize);
+        let n = offset / core::mem::size_of::<Light<S>>().max(1);
+        self.shadow_cache.and_then(|cache| cache.last.get(n))
     }
 
     /// The same shader running only `stages` and testing rays only against `among` (a
@@ -271,7 +324,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
             // Nothing is transparent: the first blocker decides, whichever it is.
             let shadow = Ray::with_length(hit.point, l, S::ONE);
             let z = self.z_limit;
-            if any_hit_among(self.objects, &self.among, &shadow, index, distance, z) {
+            let last = self.remembered(light);
+            if any_hit_remembering(self.objects, &self.among, &shadow, index, distance, z, last) {
                 return Vec3::ZERO;
             }
         }
@@ -349,7 +403,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let mut lit = surface.diffuse.mul_each(light.diffuse_emissivity);
         if cfg!(feature = "transparency") && self.stages.shadows && self.stages.filtered_shadows {
             lit = lit.mul_each(self.shadow_filter(hit.point, to_light, S::ONE, index)?);
-        } else if self.stages.shadows && self.blocked(hit.point, to_light, index) {
+        } else if self.stages.shadows && self.blocked(hit.point, to_light, index, light) {
             return None;
         }
         let r = S::wide_recip(S::wide_mul(d_squared, total));
@@ -365,16 +419,22 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// Whether an object (but the one at `index`) is in the way from `from` to `from + l`,
     /// within the z rule: the shadow test when nothing is transparent.
     #[inline(always)]
-    fn blocked(&self, from: Vec3<S>, l: Vec3<S>, index: usize) -> bool {
+    fn blocked(&self, from: Vec3<S>, l: Vec3<S>, index: usize, light: &Light<S>) -> bool {
         let shadow = Ray::new(from, l);
-        any_hit_among(
-            self.objects,
-            &self.among,
-            &shadow,
-            index,
-            S::ONE,
-            self.z_limit,
-        )
+        let z = self.z_limit;
+        match self.among {
+            // Only tree walks are worth remembering a blocker for.
+            Among::Tree(_) => self.blocked_remembering(&shadow, index, light),
+            _ => any_hit_among(self.objects, &self.among, &shadow, index, S::ONE, z),
+        }
+    }
+
+    /// [`blocked`](Self::blocked) through a tree, with the light's shadow cache.
+    #[inline(never)]
+    fn blocked_remembering(&self, shadow: &Ray<S>, index: usize, light: &Light<S>) -> bool {
+        let last = self.remembered(light);
+        let z = self.z_limit;
+        any_hit_remembering(self.objects, &self.among, shadow, index, S::ONE, z, last)
     }
 
     /// Walks from `from` towards a light `distance` away along `l`: `None` when an opaque

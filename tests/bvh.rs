@@ -1,13 +1,17 @@
 //! The bounding-volume hierarchy decides only which objects a ray is tested against, never
 //! what a test answers: for random scenes of spheres and rectangles (duplicates included, so
 //! that ties happen) and random rays, the closest hit and the shadow test through the tree
-//! are the ones every object tested in order gives, in every number type.
+//! are the ones every object tested in order gives, in every number type, with the shadow
+//! cache or without.
 
 use microray::bvh::{Bvh, MIN_OBJECTS};
-use microray::object::{Among, ObjectDef, RectDef, any_hit_among, closest_hit_among};
+use microray::object::{
+    Among, ObjectDef, RectDef, any_hit_among, any_hit_remembering, closest_hit_among,
+};
 use microray::scalar::I16F16;
 use microray::{CameraDef, MaterialDef, Ray, Scalar, Scene, Vec3};
 use proptest::prelude::*;
+use std::cell::Cell;
 
 const CAMERA: CameraDef<'static> = CameraDef::new("c", [8, 6], [8.0, 6.0], [4.0, 3.0, 6.0]);
 const MATERIALS: [MaterialDef<'static>; 1] = [MaterialDef::new("m")];
@@ -98,6 +102,18 @@ fn check<S: Scalar>(shapes: &[Shape], rays: &[([f64; 3], [f64; 3])]) -> Result<(
                 let a = any_hit_among(objects, &Among::All, &ray, skip, limit, z);
                 let b = any_hit_among(objects, &Among::Tree(tree), &ray, skip, limit, z);
                 prop_assert_eq!(a, b, "{}: shadow test", S::NAME);
+                // The shadow cache changes no answer, whatever it remembers: nothing, the
+                // object hit (a blocker), the one skipped, or another.
+                for remembered in [u16::MAX, index as u16, skip as u16, 0] {
+                    let last = Cell::new(remembered);
+                    let tree = Among::Tree(tree);
+                    let c = any_hit_remembering(objects, &tree, &ray, skip, limit, z, Some(&last));
+                    prop_assert_eq!(c, a, "{}: shadow test remembering {}", S::NAME, remembered);
+                    // What it remembers now blocks this ray, or nothing blocked it.
+                    if last.get() != remembered {
+                        prop_assert_eq!(last.get() != u16::MAX, a);
+                    }
+                }
             }
         }
     }

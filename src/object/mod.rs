@@ -576,38 +576,93 @@ pub fn any_hit_among<S: Scalar>(
         }
     });
     if let (false, Among::Tree(tree)) = (blocked, among) {
-        blocked = any_hit_in_tree(objects, tree, ray, skip, limit, z_limit);
+        blocked = first_blocker_in_tree(objects, tree, ray, skip, limit, z_limit).is_some();
     }
     blocked
 }
 
-/// [`any_hit_among`] for the objects in a tree (out of line, as [`search_tree`]).
+/// [`any_hit_among`] for the objects in a tree (out of line, as [`search_tree`]): the
+/// first blocker found.
 #[inline(never)]
-fn any_hit_in_tree<S: Scalar>(
+fn first_blocker_in_tree<S: Scalar>(
     objects: &[Object<S>],
     tree: &Tree<'_, S>,
     ray: &Ray<S>,
     skip: usize,
     limit: S,
     z_limit: S,
-) -> bool {
+) -> Option<usize> {
     let slabs = Slabs::new(ray.base, ray.dir);
-    let mut blocked = false;
+    let mut blocker = None;
     tree.walk(
         &slabs,
-        &mut blocked,
+        &mut blocker,
         |_| limit,
-        |blocked, index| {
-            *blocked = index != skip
-                && objects.get(index).is_some_and(|object| {
-                    object
-                        .hits(ray, limit)
-                        .is_some_and(|t| ray.base.z + ray.dir.z * t <= z_limit)
-                });
-            *blocked
+        |blocker, index| {
+            if blocks(objects, index, ray, skip, limit, z_limit) {
+                *blocker = Some(index);
+            }
+            blocker.is_some()
         },
     );
-    blocked
+    blocker
+}
+
+/// Whether object `index` (not `skip`) is hit with `t < limit` within the z rule.
+#[inline]
+fn blocks<S: Scalar>(
+    objects: &[Object<S>],
+    index: usize,
+    ray: &Ray<S>,
+    skip: usize,
+    limit: S,
+    z_limit: S,
+) -> bool {
+    index != skip
+        && objects.get(index).is_some_and(|object| {
+            object
+                .hits(ray, limit)
+                .is_some_and(|t| ray.base.z + ray.dir.z * t <= z_limit)
+        })
+}
+
+/// No object remembered (see [`any_hit_remembering`]).
+pub(crate) const NONE_REMEMBERED: u16 = u16::MAX;
+
+/// [`any_hit_among`] that, in a tree, tests the object `last` remembers first and
+/// remembers the blocker it finds (a light's shadow cache; see
+/// [`crate::shade::ShadowCache`]). The same answer: any blocker answers an any-hit test,
+/// and the tree walk reaches every object a ray can hit. Without a tree or a slot it is
+/// [`any_hit_among`].
+#[inline]
+pub fn any_hit_remembering<S: Scalar>(
+    objects: &[Object<S>],
+    among: &Among<'_, S>,
+    ray: &Ray<S>,
+    skip: usize,
+    limit: S,
+    z_limit: S,
+    last: Option<&core::cell::Cell<u16>>,
+) -> bool {
+    let (Among::Tree(tree), Some(last)) = (among, last) else {
+        return any_hit_among(objects, among, ray, skip, limit, z_limit);
+    };
+    let remembered = last.get();
+    if remembered != NONE_REMEMBERED
+        && blocks(objects, usize::from(remembered), ray, skip, limit, z_limit)
+    {
+        return true;
+    }
+    for &index in tree.unbounded {
+        if blocks(objects, usize::from(index), ray, skip, limit, z_limit) {
+            return true;
+        }
+    }
+    let blocker = first_blocker_in_tree(objects, tree, ray, skip, limit, z_limit);
+    last.set(blocker.map_or(NONE_REMEMBERED, |i| {
+        u16::try_from(i).unwrap_or(NONE_REMEMBERED)
+    }));
+    blocker.is_some()
 }
 
 /// Hit points with `z` above this are in front of the image plane (in scene units, before

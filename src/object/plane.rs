@@ -193,11 +193,7 @@ pub fn axis_plane_hits<S: Scalar, const AXIS: u8, const NEGATIVE: bool>(
         1 => (ray.dir.y, ray.base.y),
         _ => (ray.dir.z, ray.base.z),
     };
-    let (dir, base) = if NEGATIVE {
-        (-dir, -base)
-    } else {
-        (dir, base)
-    };
+    let (dir, base) = if NEGATIVE { (-dir, -base) } else { (dir, base) };
     S::parameter_within(plane.n_dot_point - base, dir, limit)
 }
 
@@ -329,9 +325,16 @@ mod tests {
                 );
                 let limit = S::from_f64(limit);
                 let axis_hits = Plane::AXIS_VTABLES[table].hits;
-                assert_eq!(axis_hits(&obj, &ray, limit), plane.nearest(&ray, limit), "{v:?}");
+                assert_eq!(
+                    axis_hits(&obj, &ray, limit),
+                    plane.nearest(&ray, limit),
+                    "{v:?}"
+                );
                 assert_eq!(obj.hits(&ray, limit), plane.nearest(&ray, limit), "{v:?}");
-                assert_eq!(obj.hits(&ray, S::UNBOUNDED), plane.nearest(&ray, S::UNBOUNDED));
+                assert_eq!(
+                    obj.hits(&ray, S::UNBOUNDED),
+                    plane.nearest(&ray, S::UNBOUNDED)
+                );
             }
         }
     }

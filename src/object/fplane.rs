@@ -111,7 +111,7 @@ impl<S: Scalar> Rect<S> {
     /// The plane's hit below `limit`, if it lies within `0 <= q <= dimensions`.
     #[inline]
     pub fn nearest(&self, ray: &Ray<S>, limit: S) -> Option<S> {
-        let t = self.plane.nearest(ray, limit)?;
+        let t = self.plane.nearest_by_axis(ray, limit)?;
         let [qx, qy] = self.local(ray.at(t));
         let [w, h] = self.dimensions;
         (qx >= S::ZERO && qx <= w && qy >= S::ZERO && qy <= h).then_some(t)

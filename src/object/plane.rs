@@ -34,6 +34,8 @@ pub struct Plane<S> {
     pub unit_normal: Vec3<S>,
     /// `unit_normal . point`: the plane is `N.x = N.point`.
     pub n_dot_point: S,
+    /// [`axis_table`](Self::axis_table), worked out at load.
+    pub axis: Option<usize>,
 }
 
 impl<S: Scalar> Plane<S> {
@@ -49,12 +51,15 @@ impl<S: Scalar> Plane<S> {
             .ok_or(ErrorKind::ZeroVector { attr: Attr::Normal })?;
         let n_dot_point = unit.dot(point.to_f64());
         let n_dot_point = load(n_dot_point, Attr::Point)?;
-        Ok(Self {
+        let mut plane = Self {
             normal,
             point,
             unit_normal: unit.cast(),
             n_dot_point,
-        })
+            axis: None,
+        };
+        plane.axis = plane.axis_table();
+        Ok(plane)
     }
 
     /// The seed's `plane_hits`: `t = (N.point - N.base) / N.dir`; no hit when the ray is
@@ -66,6 +71,27 @@ impl<S: Scalar> Plane<S> {
         // No division for planes behind the ray or beyond `limit`, nor when the ray is
         // parallel (`N.dir == 0`).
         S::parameter_within(distance, n_dot_dir, limit)
+    }
+
+    /// [`nearest`](Self::nearest), read off one coordinate when the normal is along an
+    /// axis (exact, as [`axis_plane_hits`]): for the kinds built on a plane, whose own
+    /// tables cannot be chosen by the plane's normal.
+    #[inline]
+    pub fn nearest_by_axis(&self, ray: &Ray<S>, limit: S) -> Option<S> {
+        let Some(axis) = self.axis.filter(|_| S::AXIS_READS) else {
+            return self.nearest(ray, limit);
+        };
+        let (dir, base) = match axis / 2 {
+            0 => (ray.dir.x, ray.base.x),
+            1 => (ray.dir.y, ray.base.y),
+            _ => (ray.dir.z, ray.base.z),
+        };
+        let (dir, base) = if axis % 2 == 1 {
+            (-dir, -base)
+        } else {
+            (dir, base)
+        };
+        S::parameter_within(self.n_dot_point - base, dir, limit)
     }
 
     /// The test of a row's primary rays: when the normal has no x part, `N . dir` is the
@@ -331,6 +357,10 @@ mod tests {
                     "{v:?}"
                 );
                 assert_eq!(obj.hits(&ray, limit), plane.nearest(&ray, limit), "{v:?}");
+                assert_eq!(
+                    plane.nearest_by_axis(&ray, limit),
+                    plane.nearest(&ray, limit)
+                );
                 assert_eq!(
                     obj.hits(&ray, S::UNBOUNDED),
                     plane.nearest(&ray, S::UNBOUNDED)

@@ -102,7 +102,7 @@ pub fn tiled_plane_init<S: Scalar>(
 /// `hits` of a tiled plane: the infinite plane's.
 pub fn tiled_plane_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>, limit: S) -> Option<S> {
     match obj.shape() {
-        Shape::TiledPlane(tiled) => tiled.rect.plane.nearest(ray, limit),
+        Shape::TiledPlane(tiled) => tiled.rect.plane.nearest_by_axis(ray, limit),
         _ => None,
     }
 }

@@ -34,8 +34,9 @@ pub struct Plane<S> {
     pub unit_normal: Vec3<S>,
     /// `unit_normal . point`: the plane is `N.x = N.point`.
     pub n_dot_point: S,
-    /// [`axis_table`](Self::axis_table), worked out at load.
-    pub axis: Option<usize>,
+    /// [`axis_table`](Self::axis_table), worked out at load (a byte: planes are in every
+    /// object slot's data).
+    pub axis: Option<u8>,
 }
 
 impl<S: Scalar> Plane<S> {
@@ -58,7 +59,7 @@ impl<S: Scalar> Plane<S> {
             n_dot_point,
             axis: None,
         };
-        plane.axis = plane.axis_table();
+        plane.axis = plane.axis_table().and_then(|a| u8::try_from(a).ok());
         Ok(plane)
     }
 

@@ -561,10 +561,7 @@ pub fn any_hit_among<S: Scalar>(
     z_limit: S,
 ) -> bool {
     let blocks = |index: usize, object: &Object<S>| {
-        index != skip
-            && object
-                .hits(ray, limit)
-                .is_some_and(|t| ray.base.z + ray.dir.z * t <= z_limit)
+        index != skip && object_blocks(object, ray, limit, z_limit)
     };
     let mut blocked = false;
     among.each(objects, |index, object| {
@@ -619,11 +616,17 @@ fn blocks<S: Scalar>(
     z_limit: S,
 ) -> bool {
     index != skip
-        && objects.get(index).is_some_and(|object| {
-            object
-                .hits(ray, limit)
-                .is_some_and(|t| ray.base.z + ray.dir.z * t <= z_limit)
-        })
+        && objects
+            .get(index)
+            .is_some_and(|object| object_blocks(object, ray, limit, z_limit))
+}
+
+/// Whether `object` is hit with `t < limit` within the z rule.
+#[inline]
+fn object_blocks<S: Scalar>(object: &Object<S>, ray: &Ray<S>, limit: S, z_limit: S) -> bool {
+    object
+        .hits(ray, limit)
+        .is_some_and(|t| ray.base.z + ray.dir.z * t <= z_limit)
 }
 
 /// No object remembered (see [`any_hit_remembering`]).

@@ -79,19 +79,22 @@ impl<S: Scalar> Plane<S> {
     /// tables cannot be chosen by the plane's normal.
     #[inline]
     pub fn nearest_by_axis(&self, ray: &Ray<S>, limit: S) -> Option<S> {
-        let Some(axis) = self.axis.filter(|_| S::AXIS_READS) else {
-            return self.nearest(ray, limit);
-        };
-        let (dir, base) = match axis / 2 {
+        match self.axis.filter(|_| S::AXIS_READS) {
+            Some(axis) => self.nearest_along(axis / 2, axis % 2 == 1, ray, limit),
+            None => self.nearest(ray, limit),
+        }
+    }
+
+    /// [`nearest`](Self::nearest) for a unit normal of `+1` (`-1` when `negative`) along
+    /// `axis` (0 for x, 1 for y, 2 for z): the dot products read off one coordinate.
+    #[inline]
+    fn nearest_along(&self, axis: u8, negative: bool, ray: &Ray<S>, limit: S) -> Option<S> {
+        let (dir, base) = match axis {
             0 => (ray.dir.x, ray.base.x),
             1 => (ray.dir.y, ray.base.y),
             _ => (ray.dir.z, ray.base.z),
         };
-        let (dir, base) = if axis % 2 == 1 {
-            (-dir, -base)
-        } else {
-            (dir, base)
-        };
+        let (dir, base) = if negative { (-dir, -base) } else { (dir, base) };
         S::parameter_within(self.n_dot_point - base, dir, limit)
     }
 
@@ -185,15 +188,11 @@ pub fn plane_init<S: Scalar>(
     scale: f64,
 ) -> Result<Object<S>, ErrorKind> {
     let plane = Plane::build(def, scale)?;
-    let vtable = match plane.axis_table() {
-        Some(0) => &Plane::AXIS_VTABLES[0],
-        Some(1) => &Plane::AXIS_VTABLES[1],
-        Some(2) => &Plane::AXIS_VTABLES[2],
-        Some(3) => &Plane::AXIS_VTABLES[3],
-        Some(4) => &Plane::AXIS_VTABLES[4],
-        Some(5) => &Plane::AXIS_VTABLES[5],
-        _ => &Plane::VTABLE,
-    };
+    let tables: &'static [ObjectVTable<S>; 6] = &Plane::AXIS_VTABLES;
+    let vtable = plane
+        .axis
+        .and_then(|axis| tables.get(usize::from(axis)))
+        .unwrap_or(&Plane::VTABLE);
     Object::init(vtable, name, material, Shape::Plane(plane))
 }
 
@@ -212,16 +211,10 @@ pub fn axis_plane_hits<S: Scalar, const AXIS: u8, const NEGATIVE: bool>(
     ray: &Ray<S>,
     limit: S,
 ) -> Option<S> {
-    let Shape::Plane(plane) = obj.shape() else {
-        return None;
-    };
-    let (dir, base) = match AXIS {
-        0 => (ray.dir.x, ray.base.x),
-        1 => (ray.dir.y, ray.base.y),
-        _ => (ray.dir.z, ray.base.z),
-    };
-    let (dir, base) = if NEGATIVE { (-dir, -base) } else { (dir, base) };
-    S::parameter_within(plane.n_dot_point - base, dir, limit)
+    match obj.shape() {
+        Shape::Plane(plane) => plane.nearest_along(AXIS, NEGATIVE, ray, limit),
+        _ => None,
+    }
 }
 
 /// `surface` of the plane and the finite plane: the unit normal, the object's material.

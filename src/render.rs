@@ -310,6 +310,24 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
         Some(tests)
     }
 
+    /// Whether the pixels of image row `row` (0 the top) are shaded together, as a
+    /// [`RowShading`](crate::shade::RowShading): every primary ray meets the same plain
+    /// plane at the same `t` (with a plan, in the types that do not normalise primary
+    /// rays). The pixels are the same either way; this tells where the work is shared.
+    pub fn shades_row_together(&self, row: u16) -> bool {
+        if self.shading != Shading::Color || row >= self.camera.height() {
+            return false;
+        }
+        let camera_y = self.camera.height().saturating_sub(1).saturating_sub(row);
+        let rays = self.camera.row_rays(camera_y, 0);
+        let shader = self.shader();
+        self.row_tests(camera_y, &rays).is_some_and(|tests| {
+            shader
+                .row_shading(&tests, &rays.origin(self.shader.z_limit()))
+                .is_some()
+        })
+    }
+
     /// Renders `area` (clipped to the image) into `target` at the same coordinates, one
     /// `fill_contiguous` call per row, top to bottom, using `row` as the row buffer.
     /// `on_row` runs after each row; returning `ControlFlow::Break` stops early.
@@ -343,8 +361,26 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
             let rays = self.camera.row_rays(camera_y, left);
             match self.row_tests(camera_y, &rays) {
                 Some(tests) => {
-                    for (slot, ray) in row.iter_mut().zip(rays) {
-                        *slot = self.color_in_row(&shader, ray, &tests).into();
+                    let shading = match self.shading {
+                        Shading::Color => {
+                            shader.row_shading(&tests, &rays.origin(self.shader.z_limit()))
+                        }
+                        Shading::Ids => None,
+                    };
+                    match shading {
+                        // Every ray meets the same plane at the same `t`.
+                        Some(shading) => {
+                            for (slot, ray) in row.iter_mut().zip(rays) {
+                                let c = ray
+                                    .map_or(Vec3::ZERO, |ray| shader.shade_in_row(&shading, &ray));
+                                *slot = bytes(c).into();
+                            }
+                        }
+                        None => {
+                            for (slot, ray) in row.iter_mut().zip(rays) {
+                                *slot = self.color_in_row(&shader, ray, &tests).into();
+                            }
+                        }
                     }
                 }
                 None => {

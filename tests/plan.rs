@@ -31,7 +31,8 @@ fn load<S: Scalar>(path: &Path) -> HostScene<'static, S> {
         .unwrap_or_else(|e| panic!("{} in {}: {e}", path.display(), S::NAME))
 }
 
-fn image<S: Scalar>(renderer: &HostRenderer<'_, S>) -> Framebuffer {
+/// The render through rows (`render_area`, where rows are shaded together).
+fn image<S: Scalar, const OBJECTS: usize>(renderer: &Renderer<'_, S, OBJECTS>) -> Framebuffer {
     let size = renderer.size();
     let mut image = Framebuffer::new(size);
     let mut row = vec![Default::default(); size.width as usize];
@@ -51,6 +52,8 @@ struct Skipped {
     stages_off: usize,
     /// Scenes whose shadow rays use the any-hit test.
     any_hit_shadows: usize,
+    /// Rows shaded together (see `Renderer::shades_row_together`).
+    rows_together: u64,
 }
 
 fn identical_with_and_without_plan<S: Scalar>() -> Skipped {
@@ -96,6 +99,9 @@ fn identical_with_and_without_plan<S: Scalar>() -> Skipped {
         .filter(|&off| off)
         .count();
         skipped.any_hit_shadows += usize::from(stages.shadows && !stages.filtered_shadows);
+        skipped.rows_together += (0..height)
+            .filter(|&row| planned.shades_row_together(row))
+            .count() as u64;
     }
     eprintln!("{}: {skipped:?}", S::NAME);
     assert!(
@@ -107,17 +113,22 @@ fn identical_with_and_without_plan<S: Scalar>() -> Skipped {
 
 #[test]
 fn f64_plan_changes_no_pixel() {
-    identical_with_and_without_plan::<f64>();
+    let skipped = identical_with_and_without_plan::<f64>();
+    // Normalised primary rays differ in every coordinate: no row is shaded together.
+    assert_eq!(skipped.rows_together, 0);
 }
 
 #[test]
 fn f32_plan_changes_no_pixel() {
-    identical_with_and_without_plan::<f32>();
+    let skipped = identical_with_and_without_plan::<f32>();
+    // The floors and walls of the scenes: the comparison covers rows shaded together.
+    assert!(skipped.rows_together > 100, "{skipped:?}");
 }
 
 #[test]
 fn i16f16_plan_changes_no_pixel() {
-    identical_with_and_without_plan::<I16F16>();
+    let skipped = identical_with_and_without_plan::<I16F16>();
+    assert!(skipped.rows_together > 100, "{skipped:?}");
 }
 
 /// The many-spheres scene is where row culling pays: each row's list holds only a few of
@@ -238,5 +249,158 @@ mod random_geometry {
             check::<f32>(eye, &object)?;
             check::<I16F16>(eye, &object)?;
         }
+    }
+}
+
+mod random_rooms {
+    //! Rooms of planes (floors, walls, slopes, checkerboards, sometimes a ball) under one to
+    //! four lights (spotlights among them), with mirrors and glints: rows shaded together
+    //! (see `Renderer::shades_row_together`) give the pixels of the render without a plan,
+    //! in the types that shade rows together.
+    use super::image;
+    use microray::object::{ObjectDef, RectDef};
+    use microray::render::Renderer;
+    use microray::scalar::I16F16;
+    use microray::{CameraDef, LightDef, MaterialDef, Scalar, Scene};
+    use proptest::prelude::*;
+
+    const NAMES: [&str; 4] = ["a", "b", "c", "d"];
+
+    fn normal() -> impl Strategy<Value = [f64; 3]> {
+        prop_oneof![
+            Just([0.0, 1.0, 0.0]),
+            Just([0.0, 0.0, 1.0]),
+            Just([0.0, -1.0, 0.0]),
+            Just([0.0, 1.0, 2.0]),
+            Just([0.0, -1.0, 1.0]),
+            Just([1.0, 0.0, 0.0]),
+            Just([1.0, 0.5, 0.25]),
+        ]
+    }
+
+    fn point() -> impl Strategy<Value = [f64; 3]> {
+        [-6.0..6.0f64, -3.0..3.0f64, -9.0..-1.0f64]
+    }
+
+    fn object() -> impl Strategy<Value = (u8, [f64; 3], [f64; 3], usize)> {
+        (0..8u8, normal(), point(), 0..4usize)
+    }
+
+    fn material() -> impl Strategy<Value = ([f64; 3], [f64; 3], f64, f64)> {
+        (
+            [0.0..4.0f64, 0.0..4.0f64, 0.0..4.0f64],
+            prop_oneof![Just([0.0; 3]), Just([1.0; 3]), Just([0.5, 0.2, 0.1])],
+            prop_oneof![Just(0.0), 0.2..0.9f64],
+            prop_oneof![Just(0.0), 2.0..40.0f64],
+        )
+    }
+
+    fn light() -> impl Strategy<Value = (bool, [f64; 3], [f64; 3], f64)> {
+        (
+            any::<bool>(),
+            [-6.0..10.0f64, 0.5..12.0f64, -6.0..4.0f64],
+            [1.0..8.0f64, 1.0..8.0f64, 1.0..8.0f64],
+            10.0..80.0f64,
+        )
+    }
+
+    type Room = (
+        Vec<(u8, [f64; 3], [f64; 3], usize)>,
+        Vec<([f64; 3], [f64; 3], f64, f64)>,
+        Vec<(bool, [f64; 3], [f64; 3], f64)>,
+        [f64; 3],
+    );
+
+    fn room() -> impl Strategy<Value = Room> {
+        (
+            prop::collection::vec(object(), 1..4),
+            prop::collection::vec(material(), 4),
+            prop::collection::vec(light(), 1..5),
+            [1.0..7.0f64, 1.0..5.0f64, 2.0..8.0f64],
+        )
+    }
+
+    fn check<S: Scalar>(room: &Room) -> Result<u64, TestCaseError> {
+        let (objects, materials, lights, eye) = room;
+        let materials: Vec<_> = materials
+            .iter()
+            .zip(NAMES)
+            .map(|(&(diffuse, ambient, specular, shininess), name)| {
+                MaterialDef::new(name)
+                    .diffuse(diffuse)
+                    .ambient(ambient)
+                    .specular(specular)
+                    .shininess(shininess)
+            })
+            .collect();
+        let objects: Vec<_> = objects
+            .iter()
+            .map(|&(kind, n, p, m)| match kind {
+                // Mostly plain planes: the kind rows are shaded together for.
+                0..=4 => ObjectDef::plane("o", NAMES[m], n, p),
+                5 | 6 => {
+                    let rect = RectDef::new(n, p, [1.0, 0.0, 0.0], [1.5, 1.5]);
+                    ObjectDef::tiled_plane("o", NAMES[m], rect, NAMES[(m + 1) % 4])
+                }
+                _ => ObjectDef::sphere("o", NAMES[m], p, 1.0),
+            })
+            .collect();
+        let lights: Vec<_> = lights
+            .iter()
+            .map(|&(spot, at, emissivity, theta)| {
+                if spot {
+                    LightDef::spot("l", at, emissivity, [at[0], 0.0, at[2] - 2.0], theta)
+                } else {
+                    LightDef::point("l", at, emissivity)
+                }
+            })
+            .collect();
+        let camera = CameraDef::new("c", [48, 36], [8.0, 6.0], *eye);
+        let Ok(scene) =
+            Scene::<'_, S, 4, 4, 4, 0, 48>::from_defs(&camera, &materials, &[], &lights, &objects)
+        else {
+            // Rejected for this type (a tiled plane's xdir along its normal, ...).
+            return Ok(0);
+        };
+        let planned: Renderer<'_, S, 4> = Renderer::new(&scene);
+        let unplanned = planned.clone().with_plan(false);
+        let together = (0..36)
+            .filter(|&row| planned.shades_row_together(row))
+            .count();
+        let (a, b) = (image(&planned), image(&unplanned));
+        for (i, (p, q)) in a.rgb().chunks(3).zip(b.rgb().chunks(3)).enumerate() {
+            prop_assert_eq!(p, q, "{}: pixel ({}, {}) differs", S::NAME, i % 48, i / 48);
+        }
+        Ok(together as u64)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+        #[test]
+        fn rows_shaded_together_change_no_pixel(room in room()) {
+            check::<f32>(&room)?;
+            check::<I16F16>(&room)?;
+        }
+    }
+
+    /// The rooms above do exercise rows shaded together (else the property is vacuous).
+    #[test]
+    fn rooms_are_shaded_together() {
+        let room: Room = (
+            vec![
+                (0, [0.0, 1.0, 0.0], [0.0, -1.0, -4.0], 0),
+                (1, [0.0, 0.0, 1.0], [0.0, 0.0, -6.0], 1),
+            ],
+            vec![
+                ([2.0; 3], [1.0; 3], 0.5, 0.0),
+                ([1.0, 3.0, 1.0], [0.0; 3], 0.0, 10.0),
+                ([1.0; 3], [0.0; 3], 0.0, 0.0),
+                ([1.0; 3], [0.0; 3], 0.0, 0.0),
+            ],
+            vec![(false, [2.0, 8.0, 0.0], [4.0; 3], 0.0)],
+            [4.0, 3.0, 4.0],
+        );
+        assert_eq!(check::<f32>(&room).unwrap(), 36);
+        assert_eq!(check::<I16F16>(&room).unwrap(), 36);
     }
 }

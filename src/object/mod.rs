@@ -263,6 +263,22 @@ impl<S: Scalar> Object<S> {
     pub fn vtable(&self) -> &'static ObjectVTable<S> {
         self.vtable
     }
+    /// Whether `hits` reads nothing of a ray's `x` (base or direction), so rays that differ
+    /// only in `x` get the same answer bit for bit: the infinite plane kinds whose normal
+    /// has no x part (`0 * x` adds nothing to their dot products, and the hit's `z`, which
+    /// the z rule reads, is the same). Asked once a row, not per ray.
+    pub fn hits_ignore_x(&self) -> bool {
+        match &self.shape {
+            Shape::Plane(plane) => plane.unit_normal.x == S::ZERO,
+            Shape::TiledPlane(tiled) => tiled.rect.plane.unit_normal.x == S::ZERO,
+            _ => false,
+        }
+    }
+    /// Whether the surface look-up gives the same material, reflectivities and normal at
+    /// every point (a plain plane), so only the hit point changes from hit to hit.
+    pub fn surface_is_uniform(&self) -> bool {
+        matches!(self.shape, Shape::Plane(_))
+    }
 }
 
 /// The default `row_test`: every ray tested with `hits`.
@@ -391,7 +407,7 @@ impl<S: Scalar> Among<'_, S> {
     /// Calls `visit` with each object's index and the object, in increasing order, until
     /// it breaks. (Not for trees, whose searches walk them.)
     #[inline]
-    fn each(
+    pub(crate) fn each(
         &self,
         objects: &[Object<S>],
         mut visit: impl FnMut(usize, &Object<S>) -> ControlFlow<()>,
@@ -544,6 +560,28 @@ pub fn closest_hit_in_row<S: Scalar>(
         };
         search_tree(objects, &no_unbounded, ray, None, z_limit, &mut nearest);
         best = nearest.best;
+    }
+    best
+}
+
+/// The hit of every primary ray of a row, when the row's prepared tests decide it for all
+/// of them (each entry [`RowTest::At`] or [`RowTest::Miss`], no tree): what
+/// [`closest_hit_in_row`] finds for each ray. `None` when an entry needs each ray's test or
+/// nothing is hit.
+pub fn row_hit<S: Scalar>(row: &[RowEntry<S>]) -> Option<(usize, S)> {
+    let mut best = None;
+    let mut limit = S::UNBOUNDED;
+    for entry in row {
+        match entry.test {
+            RowTest::Miss => {}
+            RowTest::At(t) => {
+                if t < limit {
+                    best = Some((usize::from(entry.index), t));
+                    limit = t;
+                }
+            }
+            RowTest::Hits => return None,
+        }
     }
     best
 }

@@ -20,6 +20,7 @@
 
 use crate::bvh::Tree;
 use crate::light::Light;
+use crate::material::Material;
 use crate::object::{
     Among, Hit, Object, Palette, RowEntry, Surface, Z_LIMIT, any_hit_among, any_hit_remembering,
     closest_hit_among, closest_hit_in_row,
@@ -29,6 +30,9 @@ use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;
 use core::cell::Cell;
+
+mod row;
+pub use row::{ROW_LEVELS, ROW_LIGHTS, RowShading};
 
 /// Rays stop once the distance travelled from the eye exceeds this (the course's bound).
 pub const MAX_DISTANCE: f64 = 32.0;
@@ -238,27 +242,65 @@ impl<'s, S: Scalar> Shader<'s, S> {
             (len, t * len)
         };
         let total = total + travelled;
-        let mut c = if S::COURSE_ORDER {
+        let c = if S::COURSE_ORDER {
             self.local(surface, index, ray.base) / total
         } else {
             self.local_divided(surface, index, ray, total)
         };
-        let (hit, material) = (&surface.hit, surface.material);
+        let onward = Onward {
+            index,
+            len,
+            total,
+            depth,
+        };
+        self.beyond(c, ray, &surface.hit, surface.material, &onward)
+    }
+
+    /// `c`, the surface's own light, plus what its mirror and its transparency let through
+    /// from `hit` on (the rays leaving the object, as `onward` says).
+    #[inline(always)]
+    fn beyond(
+        &self,
+        mut c: Vec3<S>,
+        ray: &Ray<S>,
+        hit: &Hit<S>,
+        material: &Material<S>,
+        onward: &Onward<S>,
+    ) -> Vec3<S> {
         // `cfg!`: a build without the feature has no such materials (they fail to load), and
         // the compiler drops the code.
         if cfg!(feature = "reflection") && self.stages.reflection && material.specular != S::ZERO {
-            let reflected = Ray::with_length(hit.point, reflect(ray.dir, hit.normal), len);
-            c = c + self.trace(&reflected, total, Some(index), depth + 1) * material.specular;
+            let reflected = Ray::with_length(hit.point, reflect(ray.dir, hit.normal), onward.len);
+            c = c + self.follow(&reflected, onward) * material.specular;
         }
+        self.through(c, ray, hit, material, onward)
+    }
+
+    /// `c` as seen through the surface's transparency, with what lies behind it.
+    #[inline(always)]
+    fn through(
+        &self,
+        mut c: Vec3<S>,
+        ray: &Ray<S>,
+        hit: &Hit<S>,
+        material: &Material<S>,
+        onward: &Onward<S>,
+    ) -> Vec3<S> {
         if cfg!(feature = "transparency")
             && self.stages.transparency
             && material.transparency != S::ZERO
         {
-            let through = Ray::with_length(hit.point, ray.dir, len);
-            let behind = self.trace(&through, total, Some(index), depth + 1);
+            let through = Ray::with_length(hit.point, ray.dir, onward.len);
+            let behind = self.follow(&through, onward);
             c = c * (S::ONE - material.transparency) + material.filter.mul_each(behind);
         }
         c
+    }
+
+    /// The colour along a ray leaving a hit, as `onward` says.
+    #[inline(always)]
+    fn follow(&self, ray: &Ray<S>, onward: &Onward<S>) -> Vec3<S> {
+        self.trace(ray, onward.total, Some(onward.index), onward.depth + 1)
     }
 
     /// Ambient plus every light's contribution, before the division by distance: the
@@ -369,14 +411,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 }
             }
         }
-        if !surface.ambient.is_zero() {
-            let k = match per_total {
-                Some(k) => k,
-                None => reciprocal::<S>(total),
-            };
-            c = c + scaled(surface.ambient, k);
-        }
-        c
+        with_ambient(c, surface.ambient, per_total, total)
     }
 
     /// Adds one light's diffuse and glint at a hit, divided by the distance travelled
@@ -406,14 +441,44 @@ impl<'s, S: Scalar> Shader<'s, S> {
         } else if self.stages.shadows && self.blocked(hit.point, to_light, index, light) {
             return None;
         }
-        let r = S::wide_recip(S::wide_mul(d_squared, total));
-        let per_total = S::wide_mul(d_squared, r);
-        *c = *c + scaled(lit, S::wide_mul(cos_d, r));
-        let material = surface.material;
+        let at_hit = LightAtHit {
+            to_light,
+            cos_d,
+            d_squared,
+            lit,
+        };
+        Some(self.add_light(
+            light,
+            &at_hit,
+            surface.material,
+            hit.normal,
+            ray.dir,
+            total,
+            c,
+        ))
+    }
+
+    /// Adds a light that shines on a hit (as `at_hit` says), divided by the distance
+    /// travelled (`total`), to `c`, and returns `1 / total`: one reciprocal for both.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn add_light(
+        &self,
+        light: &Light<S>,
+        at_hit: &LightAtHit<S>,
+        material: &Material<S>,
+        normal: Vec3<S>,
+        dir: Vec3<S>,
+        total: S::Wide,
+        c: &mut Vec3<S>,
+    ) -> S::Wide {
+        let r = S::wide_recip(S::wide_mul(at_hit.d_squared, total));
+        let per_total = S::wide_mul(at_hit.d_squared, r);
+        *c = *c + scaled(at_hit.lit, S::wide_mul(at_hit.cos_d, r));
         if cfg!(feature = "glint") && self.stages.glints && material.shininess != S::ZERO {
-            *c = *c + glint(light, surface, ray.dir, to_light, per_total);
+            *c = *c + glint(light, material, normal, dir, at_hit.to_light, per_total);
         }
-        Some(per_total)
+        per_total
     }
 
     /// Whether an object (but the one at `index`) is in the way from `from` to `from + l`,
@@ -500,20 +565,59 @@ fn in_cone<S: Scalar>(light: &Light<S>, to_light: Vec3<S>) -> bool {
 #[inline(never)]
 fn glint<S: Scalar>(
     light: &Light<S>,
-    surface: &Surface<'_, S>,
+    material: &Material<S>,
+    normal: Vec3<S>,
     dir: Vec3<S>,
     to_light: Vec3<S>,
     k: S::Wide,
 ) -> Vec3<S> {
-    let material = surface.material;
     let halfway = to_light
         .unit()
         .and_then(|l| (-dir).unit().and_then(|v| (v + l).unit()));
-    let power = halfway.and_then(|h| h.dot(surface.hit.normal).pow_wide(material.shininess));
+    let power = halfway.and_then(|h| h.dot(normal).pow_wide(material.shininess));
     match power {
         Some(power) => scaled(light.emissivity * material.specular, S::wide_mul(power, k)),
         None => Vec3::ZERO,
     }
+}
+
+/// `c` plus the ambient light divided by the distance travelled: `per_total` is `1 / total`
+/// from the first light that shone, if one did.
+#[inline(always)]
+fn with_ambient<S: Scalar>(
+    c: Vec3<S>,
+    ambient: Vec3<S>,
+    per_total: Option<S::Wide>,
+    total: S::Wide,
+) -> Vec3<S> {
+    if ambient.is_zero() {
+        return c;
+    }
+    let k = match per_total {
+        Some(k) => k,
+        None => reciprocal::<S>(total),
+    };
+    c + scaled(ambient, k)
+}
+
+/// What the rays leaving a hit need: the object they leave, the length of their
+/// directions, the distance travelled and how deep they nest.
+#[derive(Clone, Copy, Debug)]
+struct Onward<S> {
+    index: usize,
+    len: S,
+    total: S,
+    depth: u8,
+}
+
+/// One light at one hit, before the division by the distances: the way to the light `L`,
+/// `L . n`, `L . L`, and the surface's diffuse times the light's.
+#[derive(Clone, Copy, Debug)]
+struct LightAtHit<S: Scalar> {
+    to_light: Vec3<S>,
+    cos_d: S::Wide,
+    d_squared: S::Wide,
+    lit: Vec3<S>,
 }
 
 /// `1 / total` where no light shone (out of line: the division is not worth speculating).

@@ -1,0 +1,278 @@
+//! Shading a row of primary rays that all meet one plane at one `t`.
+//!
+//! Where every primary ray of a row meets the same plain plane at the same `t` (a plane
+//! whose normal has no x part: the floors and walls of the course's scenes; see
+//! [`RowTest::At`](crate::object::RowTest::At)), the rays differ only in `x`, and so do
+//! their hit points. Whatever reads only `y` and `z` is the same at every pixel of the row,
+//! bit for bit: the plane's surface look-up, each light's `L . n` (the normal has no x
+//! part), and the shadow test when every object a shadow ray can meet ignores `x` too
+//! ([`Object::hits_ignore_x`](crate::object::Object::hits_ignore_x)). [`RowShading`] works
+//! those out once a row; each pixel computes the rest with the same operations as
+//! [`Shader::primary_in_row`], so the pixels are the same.
+//!
+//! Mirror rays off such a row differ only in `x` too (their base's and direction's `y` and
+//! `z` are the row's), so when every object ignores `x`, all of them meet the same plane at
+//! the same `t`, and the row's work repeats for them: up to [`ROW_LEVELS`] hits deep, then
+//! each pixel's ray is traced alone. Not in `f64`, whose normalised primary rays differ in
+//! every coordinate, nor with transparent objects (their filter walk), a bounding-volume
+//! tree or more than [`ROW_LIGHTS`] lights.
+
+use super::{LightAtHit, MAX_DEPTH, Onward, Shader, in_cone, reflect, with_ambient};
+use crate::light::Light;
+use crate::object::{Among, Hit, RowEntry, RowOrigin, Surface, closest_hit_among, row_hit};
+use crate::ray::Ray;
+use crate::scalar::Scalar;
+use crate::vec3::Vec3;
+use core::ops::ControlFlow;
+
+/// The most lights a [`RowShading`] holds (a scene with more shades each pixel alone).
+pub const ROW_LIGHTS: usize = 4;
+
+/// The most hits along a row's rays (the primary hit, then mirror hits) that a
+/// [`RowShading`] prepares; deeper mirror rays are traced pixel by pixel.
+pub const ROW_LEVELS: usize = 3;
+
+/// A light that reaches a level's hits: what it contributes that is the same along the row.
+#[derive(Clone, Copy, Debug)]
+struct RowLight<'s, S: Scalar> {
+    light: &'s Light<S>,
+    /// `L . n`, above zero.
+    cos_d: S::Wide,
+    /// The surface's diffuse times the light's.
+    lit: Vec3<S>,
+}
+
+/// Where a level's mirror rays go.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Mirror {
+    /// To the next level's plane.
+    Level,
+    /// No mirror rays: the surface is no mirror.
+    None,
+    /// Nowhere: they meet nothing.
+    Nothing,
+    /// Each pixel's own way (traced alone).
+    Trace,
+}
+
+/// The hits of a row's rays at one depth: one plain plane, one `t`.
+#[derive(Clone, Debug)]
+struct Level<'s, S: Scalar> {
+    index: usize,
+    t: S,
+    surface: Surface<'s, S>,
+    /// The lights in front of the plane and not blocked along the row.
+    lights: heapless::Vec<RowLight<'s, S>, ROW_LIGHTS>,
+    mirror: Mirror,
+}
+
+/// The rays of one row meeting one plain plane at one `t`, and their mirror rays the next
+/// ones, with what is the same at each level's hits worked out once (see the module's
+/// docs).
+#[derive(Clone, Debug)]
+pub struct RowShading<'s, S: Scalar> {
+    levels: heapless::Vec<Level<'s, S>, ROW_LEVELS>,
+}
+
+impl<'s, S: Scalar> Shader<'s, S> {
+    /// The shading of a row whose prepared tests (`row`, for rays from `origin`) give every
+    /// ray the same hit on a plain plane, or `None` for a row that is not like that (shade
+    /// each pixel with [`primary_in_row`](Self::primary_in_row)).
+    pub fn row_shading(
+        &self,
+        row: &[RowEntry<S>],
+        origin: &RowOrigin<S>,
+    ) -> Option<RowShading<'s, S>> {
+        if S::COURSE_ORDER || self.tree().is_some() || self.lights.len() > ROW_LIGHTS {
+            return None;
+        }
+        let shadows = self.stages.illumination && self.stages.shadows;
+        if shadows && self.stages.filtered_shadows {
+            return None;
+        }
+        let (mut index, mut t) = row_hit(row)?;
+        // A ray of the row in all but `x`, whose hits have the row's `y` and `z`.
+        let mut ray = Ray::new(origin.eye, Vec3::new(S::ZERO, origin.dy, origin.dz));
+        let all_ignore_x = self.all_ignore_x();
+        let mut levels = heapless::Vec::new();
+        loop {
+            let object = self.objects.get(index)?;
+            let uniform = object.surface_is_uniform()
+                && (!shadows || all_ignore_x || self.shadows_ignore_x(index));
+            if !uniform {
+                match levels.last_mut() {
+                    // The pixels' mirror rays go their own ways from here.
+                    Some(Level { mirror, .. }) => *mirror = Mirror::Trace,
+                    None => return None,
+                }
+                break;
+            }
+            let surface = object.surface(&self.palette, &ray, t)?;
+            let lights = self.row_lights(&surface, index, shadows);
+            let (point, normal) = (surface.hit.point, surface.hit.normal);
+            let material = surface.material;
+            let mut level = Level {
+                index,
+                t,
+                surface,
+                lights,
+                mirror: Mirror::None,
+            };
+            let mirrors = cfg!(feature = "reflection")
+                && self.stages.reflection
+                && material.specular != S::ZERO;
+            if !mirrors {
+                // Cannot fail: a level is added only below the capacity.
+                levels.push(level).ok()?;
+                break;
+            }
+            let full = levels.len() + 1 == ROW_LEVELS;
+            if full || !all_ignore_x {
+                level.mirror = Mirror::Trace;
+                levels.push(level).ok()?;
+                break;
+            }
+            // The mirror rays: `y` and `z` of base and direction are the row's.
+            ray = Ray::new(point, reflect(ray.dir, normal));
+            let next = closest_hit_among(
+                self.objects,
+                &self.among,
+                &ray,
+                Some(index),
+                S::UNBOUNDED,
+                self.z_limit,
+            );
+            let Some((next_index, next_t)) = next else {
+                level.mirror = Mirror::Nothing;
+                levels.push(level).ok()?;
+                break;
+            };
+            level.mirror = Mirror::Level;
+            levels.push(level).ok()?;
+            (index, t) = (next_index, next_t);
+        }
+        Some(RowShading { levels })
+    }
+
+    /// The lights that reach a level's surface along the whole row.
+    fn row_lights(
+        &self,
+        surface: &Surface<'s, S>,
+        index: usize,
+        shadows: bool,
+    ) -> heapless::Vec<RowLight<'s, S>, ROW_LIGHTS> {
+        let (point, normal) = (surface.hit.point, surface.hit.normal);
+        let mut lights = heapless::Vec::new();
+        if !self.stages.illumination {
+            return lights;
+        }
+        for light in self.lights {
+            let to_light = light.location - point;
+            let Some(cos_d) = S::positive_dot_unit(to_light, normal) else {
+                continue;
+            };
+            if shadows && self.blocked(point, to_light, index, light) {
+                continue;
+            }
+            let lit = surface.diffuse.mul_each(light.diffuse_emissivity);
+            // Cannot fail: the row's shading is only made for at most `ROW_LIGHTS` lights.
+            let _ = lights.push(RowLight { light, cos_d, lit });
+        }
+        lights
+    }
+
+    /// The colour seen along a primary ray of a row prepared by
+    /// [`row_shading`](Self::row_shading): what [`primary_in_row`](Self::primary_in_row)
+    /// gives.
+    pub fn shade_in_row(&self, row: &RowShading<'s, S>, ray: &Ray<S>) -> Vec3<S> {
+        self.shade_level(&row.levels, ray, S::ZERO, 0)
+    }
+
+    /// [`shade`](Self::shade) for a ray of the row at the first of `levels`, having come
+    /// `total` so far, at `depth`.
+    fn shade_level(&self, levels: &[Level<'s, S>], ray: &Ray<S>, total: S, depth: u8) -> Vec3<S> {
+        let Some((level, deeper)) = levels.split_first() else {
+            return Vec3::ZERO;
+        };
+        let surface = &level.surface;
+        let material = surface.material;
+        let hit = Hit {
+            t: level.t,
+            point: ray.at(level.t),
+            normal: surface.hit.normal,
+        };
+        let len = ray.length();
+        let total = total + level.t * len;
+        let mut c = self.local_in_row(level, &hit, ray, total);
+        let onward = Onward {
+            index: level.index,
+            len,
+            total,
+            depth,
+        };
+        if level.mirror != Mirror::None {
+            let reflected = Ray::with_length(hit.point, reflect(ray.dir, hit.normal), len);
+            let seen = match level.mirror {
+                Mirror::Trace => self.follow(&reflected, &onward),
+                // Where `trace` stops, or finds nothing.
+                _ if total > self.max_distance || depth + 1 > MAX_DEPTH => Vec3::ZERO,
+                Mirror::Level => self.shade_level(deeper, &reflected, total, depth + 1),
+                _ => Vec3::ZERO,
+            };
+            c = c + seen * material.specular;
+        }
+        self.through(c, ray, &hit, material, &onward)
+    }
+
+    /// [`local_divided`](Self::local_divided) with a level's lights.
+    #[inline(always)]
+    fn local_in_row(&self, level: &Level<'s, S>, hit: &Hit<S>, ray: &Ray<S>, total: S) -> Vec3<S> {
+        let Some(total) = total.to_wide() else {
+            return Vec3::ZERO;
+        };
+        let material = level.surface.material;
+        let mut c = Vec3::ZERO;
+        let mut per_total = None;
+        for lit in &level.lights {
+            let light = lit.light;
+            let to_light = light.location - hit.point;
+            let Some(d_squared) = S::positive_dot(to_light, to_light) else {
+                continue;
+            };
+            if cfg!(feature = "spotlight") && light.spot.is_some() && !in_cone(light, to_light) {
+                continue;
+            }
+            let at_hit = LightAtHit {
+                to_light,
+                cos_d: lit.cos_d,
+                d_squared,
+                lit: lit.lit,
+            };
+            let per = self.add_light(light, &at_hit, material, hit.normal, ray.dir, total, &mut c);
+            per_total.get_or_insert(per);
+        }
+        with_ambient(c, level.surface.ambient, per_total, total)
+    }
+
+    /// Whether every object rays can meet ignores `x`.
+    fn all_ignore_x(&self) -> bool {
+        self.shadows_ignore_x(usize::MAX)
+    }
+
+    /// Whether every object a shadow ray can meet, but the one at `index`, ignores `x`.
+    fn shadows_ignore_x(&self, index: usize) -> bool {
+        if matches!(self.among, Among::Tree(_)) {
+            return false;
+        }
+        let mut all = true;
+        self.among.each(self.objects, |i, object| {
+            if i == index || object.hits_ignore_x() {
+                ControlFlow::Continue(())
+            } else {
+                all = false;
+                ControlFlow::Break(())
+            }
+        });
+        all
+    }
+}

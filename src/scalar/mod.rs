@@ -356,6 +356,50 @@ impl Scalar for f64 {
     }
 }
 
+/// Whether the target has a floating-point unit: a float-to-integer conversion is then
+/// one instruction (`VCVT` on a Cortex-M4F), else a call into the soft-float routines.
+const HARD_FLOAT: bool = cfg!(any(
+    target_arch = "x86_64",
+    target_arch = "aarch64",
+    all(target_arch = "arm", target_abi = "eabihf")
+));
+
+/// `floor(v * 255)` clamped to 0..=255 (NaN 0), exactly as the `f64` product gives it, with
+/// the float unit: `v 2^32` is exact (a power of two) and, for `v` in `[2^-9, 1)`, a whole
+/// number that the saturating conversion keeps; `(v 2^32) 255 / 2^32` truncated is then
+/// `floor(v 255)`. Below `2^-9` both are 0.
+#[inline]
+pub(crate) fn f32_byte_by_scaling(v: f32) -> u8 {
+    if v >= 1.0 {
+        return 255;
+    }
+    // Saturating: negative values and NaN give 0.
+    let x = (v * 4_294_967_296.0) as u32;
+    ((u64::from(x) * 255) >> 32) as u8
+}
+
+/// [`f32_byte_by_scaling`] on the bits, for targets without a float unit: `v * 255` for `v`
+/// in (0, 1) is `mantissa * 255 * 2^exponent`, and `mantissa * 255` fits 32 bits;
+/// truncating it is what the `f64` product gives. Negative values, zeros and NaN are 0.
+#[inline]
+pub(crate) fn f32_byte_by_bits(v: f32) -> u8 {
+    let bits = v.to_bits() as i32;
+    if bits <= 0 {
+        return 0;
+    }
+    if bits >= 0x3f80_0000 {
+        // 1 or more, or a NaN (above infinity's bits).
+        return if bits <= 0x7f80_0000 { 255 } else { 0 };
+    }
+    // v = mantissa 2^(exponent - 150): the shift is 24 or more; below 2^-8, v * 255 < 1.
+    let shift = 150 - (bits >> 23) as u32;
+    if shift >= 32 {
+        return 0;
+    }
+    let mantissa = (bits as u32 & 0x7f_ffff) | 0x80_0000;
+    ((mantissa * 255) >> shift) as u8
+}
+
 impl Scalar for f32 {
     const NAME: &'static str = "f32";
     const ZERO: Self = 0.0;
@@ -433,26 +477,14 @@ impl Scalar for f32 {
     fn from_i32(value: i32) -> Self {
         value as f32
     }
-    /// Exact without `f64`, on the bits: `v * 255` for `v` in (0, 1) is `mantissa * 255 *
-    /// 2^exponent`, and `mantissa * 255` fits 32 bits; truncating it is what the `f64`
-    /// product gives. Negative values, zeros and NaN are 0.
+    /// Exact without `f64` (see [`f32_byte_by_scaling`] and [`f32_byte_by_bits`]).
     #[inline]
     fn to_byte(self) -> u8 {
-        let bits = self.to_bits() as i32;
-        if bits <= 0 {
-            return 0;
+        if HARD_FLOAT {
+            f32_byte_by_scaling(self)
+        } else {
+            f32_byte_by_bits(self)
         }
-        if bits >= 0x3f80_0000 {
-            // 1 or more, or a NaN (above infinity's bits).
-            return if bits <= 0x7f80_0000 { 255 } else { 0 };
-        }
-        // v = mantissa 2^(exponent - 150): the shift is 24 or more; below 2^-8, v * 255 < 1.
-        let shift = 150 - (bits >> 23) as u32;
-        if shift >= 32 {
-            return 0;
-        }
-        let mantissa = (bits as u32 & 0x7f_ffff) | 0x80_0000;
-        ((mantissa * 255) >> shift) as u8
     }
     #[cfg(feature = "print")]
     fn write_shortest(self, out: &mut dyn fmt::Write) -> fmt::Result {
@@ -701,23 +733,29 @@ mod tests {
 
     #[test]
     fn f32_bytes_equal_the_f64_conversion() {
+        check_f32_bytes(Scalar::to_byte);
+        check_f32_bytes(f32_byte_by_scaling);
+        check_f32_bytes(f32_byte_by_bits);
+    }
+
+    fn check_f32_bytes(to_byte: fn(f32) -> u8) {
         // Every f32 near each byte boundary, and a sweep of all exponents below 1.
         for k in 0..=255u32 {
             let edge = k as f32 / 255.0;
             let mut v = edge;
             for _ in 0..40 {
-                assert_eq!(Scalar::to_byte(v), Scalar::to_byte(f64::from(v)), "{v:e}");
+                assert_eq!(to_byte(v), Scalar::to_byte(f64::from(v)), "{v:e}");
                 v = f32::from_bits(v.to_bits() + 1);
             }
             let mut v = edge;
             for _ in 0..40 {
-                assert_eq!(Scalar::to_byte(v), Scalar::to_byte(f64::from(v)), "{v:e}");
+                assert_eq!(to_byte(v), Scalar::to_byte(f64::from(v)), "{v:e}");
                 v = f32::from_bits(v.to_bits().saturating_sub(1));
             }
         }
         for bits in (0..0x3f80_0000u32).step_by(997) {
             let v = f32::from_bits(bits);
-            assert_eq!(Scalar::to_byte(v), Scalar::to_byte(f64::from(v)), "{v:e}");
+            assert_eq!(to_byte(v), Scalar::to_byte(f64::from(v)), "{v:e}");
         }
         // Above 1, negative, infinite and NaN values.
         for v in [
@@ -733,7 +771,7 @@ mod tests {
             f32::MIN_POSITIVE,
             1e-45,
         ] {
-            assert_eq!(Scalar::to_byte(v), Scalar::to_byte(f64::from(v)), "{v:e}");
+            assert_eq!(to_byte(v), Scalar::to_byte(f64::from(v)), "{v:e}");
         }
     }
 }

@@ -441,44 +441,12 @@ impl<'s, S: Scalar> Shader<'s, S> {
         } else if self.stages.shadows && self.blocked(hit.point, to_light, index, light) {
             return None;
         }
-        let at_hit = LightAtHit {
-            to_light,
-            cos_d,
-            d_squared,
-            lit,
-        };
-        Some(self.add_light(
-            light,
-            &at_hit,
-            surface.material,
-            hit.normal,
-            ray.dir,
-            total,
-            c,
-        ))
-    }
-
-    /// Adds a light that shines on a hit (as `at_hit` says), divided by the distance
-    /// travelled (`total`), to `c`, and returns `1 / total`: one reciprocal for both.
-    #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
-    fn add_light(
-        &self,
-        light: &Light<S>,
-        at_hit: &LightAtHit<S>,
-        material: &Material<S>,
-        normal: Vec3<S>,
-        dir: Vec3<S>,
-        total: S::Wide,
-        c: &mut Vec3<S>,
-    ) -> S::Wide {
-        let r = S::wide_recip(S::wide_mul(at_hit.d_squared, total));
-        let per_total = S::wide_mul(at_hit.d_squared, r);
-        *c = *c + scaled(at_hit.lit, S::wide_mul(at_hit.cos_d, r));
+        let per_total = add_diffuse(lit, cos_d, d_squared, total, c);
+        let material = surface.material;
         if cfg!(feature = "glint") && self.stages.glints && material.shininess != S::ZERO {
-            *c = *c + glint(light, material, normal, dir, at_hit.to_light, per_total);
+            *c = *c + glint(light, material, hit.normal, ray.dir, to_light, per_total);
         }
-        per_total
+        Some(per_total)
     }
 
     /// Whether an object (but the one at `index`) is in the way from `from` to `from + l`,
@@ -610,14 +578,20 @@ struct Onward<S> {
     depth: u8,
 }
 
-/// One light at one hit, before the division by the distances: the way to the light `L`,
-/// `L . n`, `L . L`, and the surface's diffuse times the light's.
-#[derive(Clone, Copy, Debug)]
-struct LightAtHit<S: Scalar> {
-    to_light: Vec3<S>,
+/// Adds the diffuse light `lit` of a light that shines on a hit, times `cos_d / (d_squared
+/// total)` (`L . n` over `L . L` and the distance travelled), to `c`, and returns
+/// `1 / total`: one reciprocal for both.
+#[inline(always)]
+fn add_diffuse<S: Scalar>(
+    lit: Vec3<S>,
     cos_d: S::Wide,
     d_squared: S::Wide,
-    lit: Vec3<S>,
+    total: S::Wide,
+    c: &mut Vec3<S>,
+) -> S::Wide {
+    let r = S::wide_recip(S::wide_mul(d_squared, total));
+    *c = *c + scaled(lit, S::wide_mul(cos_d, r));
+    S::wide_mul(d_squared, r)
 }
 
 /// `1 / total` where no light shone (out of line: the division is not worth speculating).

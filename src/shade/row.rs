@@ -17,7 +17,7 @@
 //! every coordinate, nor with transparent objects (their filter walk), a bounding-volume
 //! tree or more than [`ROW_LIGHTS`] lights.
 
-use super::{LightAtHit, MAX_DEPTH, Onward, Shader, in_cone, reflect, with_ambient};
+use super::{MAX_DEPTH, Onward, Shader, add_diffuse, glint, in_cone, reflect, with_ambient};
 use crate::light::Light;
 use crate::object::{Among, Hit, RowEntry, RowOrigin, Surface, closest_hit_among, row_hit};
 use crate::ray::Ray;
@@ -64,6 +64,12 @@ struct Level<'s, S: Scalar> {
     /// The lights in front of the plane and not blocked along the row.
     lights: heapless::Vec<RowLight<'s, S>, ROW_LIGHTS>,
     mirror: Mirror,
+    /// Whether the lights add glints.
+    glints: bool,
+    /// Whether the surface has ambient light.
+    ambient: bool,
+    /// Whether the surface is transparent.
+    transparent: bool,
 }
 
 /// The rays of one row meeting one plain plane at one `t`, and their mirror rays the next
@@ -117,6 +123,13 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 surface,
                 lights,
                 mirror: Mirror::None,
+                glints: cfg!(feature = "glint")
+                    && self.stages.glints
+                    && material.shininess != S::ZERO,
+                ambient: !surface.ambient.is_zero(),
+                transparent: cfg!(feature = "transparency")
+                    && self.stages.transparency
+                    && material.transparency != S::ZERO,
             };
             let mirrors = cfg!(feature = "reflection")
                 && self.stages.reflection
@@ -221,7 +234,10 @@ impl<'s, S: Scalar> Shader<'s, S> {
             };
             c = c + seen * material.specular;
         }
-        self.through(c, ray, &hit, material, &onward)
+        if level.transparent {
+            c = self.through(c, ray, &hit, material, &onward);
+        }
+        c
     }
 
     /// [`local_divided`](Self::local_divided) with a level's lights.
@@ -242,14 +258,14 @@ impl<'s, S: Scalar> Shader<'s, S> {
             if cfg!(feature = "spotlight") && light.spot.is_some() && !in_cone(light, to_light) {
                 continue;
             }
-            let at_hit = LightAtHit {
-                to_light,
-                cos_d: lit.cos_d,
-                d_squared,
-                lit: lit.lit,
-            };
-            let per = self.add_light(light, &at_hit, material, hit.normal, ray.dir, total, &mut c);
+            let per = add_diffuse(lit.lit, lit.cos_d, d_squared, total, &mut c);
+            if level.glints {
+                c = c + glint(light, material, hit.normal, ray.dir, to_light, per);
+            }
             per_total.get_or_insert(per);
+        }
+        if !level.ambient {
+            return c;
         }
         with_ambient(c, level.surface.ambient, per_total, total)
     }

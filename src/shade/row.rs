@@ -197,13 +197,22 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// The colour seen along a primary ray of a row prepared by
     /// [`row_shading`](Self::row_shading): what [`primary_in_row`](Self::primary_in_row)
     /// gives.
+    #[inline]
     pub fn shade_in_row(&self, row: &RowShading<'s, S>, ray: &Ray<S>) -> Vec3<S> {
-        self.shade_level(&row.levels, ray, S::ZERO, 0)
+        // The first level in line (every pixel has it), the deeper ones out of line.
+        self.level(&row.levels, ray, S::ZERO, 0)
+    }
+
+    /// [`level`](Self::level) out of line, for the mirror rays.
+    #[inline(never)]
+    fn deeper_level(&self, levels: &[Level<'s, S>], ray: &Ray<S>, total: S, depth: u8) -> Vec3<S> {
+        self.level(levels, ray, total, depth)
     }
 
     /// [`shade`](Self::shade) for a ray of the row at the first of `levels`, having come
     /// `total` so far, at `depth`.
-    fn shade_level(&self, levels: &[Level<'s, S>], ray: &Ray<S>, total: S, depth: u8) -> Vec3<S> {
+    #[inline(always)]
+    fn level(&self, levels: &[Level<'s, S>], ray: &Ray<S>, total: S, depth: u8) -> Vec3<S> {
         let Some((level, deeper)) = levels.split_first() else {
             return Vec3::ZERO;
         };
@@ -229,7 +238,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 Mirror::Trace => self.follow(&reflected, &onward),
                 // Where `trace` stops, or finds nothing.
                 _ if total > self.max_distance || depth + 1 > MAX_DEPTH => Vec3::ZERO,
-                Mirror::Level => self.shade_level(deeper, &reflected, total, depth + 1),
+                Mirror::Level => self.deeper_level(deeper, &reflected, total, depth + 1),
                 _ => Vec3::ZERO,
             };
             c = c + seen * material.specular;

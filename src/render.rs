@@ -26,7 +26,7 @@ use crate::plan::Plan;
 use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::scene::Scene;
-use crate::shade::{Shader, ShadowCache};
+use crate::shade::{RowShading, Shader, ShadowCache};
 use crate::vec3::Vec3;
 use core::ops::ControlFlow;
 use embedded_graphics::pixelcolor::Rgb888;
@@ -368,14 +368,8 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
                         Shading::Ids => None,
                     };
                     match shading {
-                        // Every ray meets the same plane at the same `t`.
-                        Some(shading) => {
-                            for (slot, ray) in row.iter_mut().zip(rays) {
-                                let c = ray
-                                    .map_or(Vec3::ZERO, |ray| shader.shade_in_row(&shading, &ray));
-                                *slot = bytes(c).into();
-                            }
-                        }
+                        // A plane at the same `t` for every ray of the row.
+                        Some(shading) => shade_row(&shader, &shading, &tests, rays, row),
                         None => {
                             for (slot, ray) in row.iter_mut().zip(rays) {
                                 *slot = self.color_in_row(&shader, ray, &tests).into();
@@ -407,6 +401,29 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
             }
         }
         Ok(Rendered::Complete)
+    }
+}
+
+/// The pixels of a row prepared for shading together (out of line: the loop keeps its
+/// registers to itself).
+#[inline(never)]
+fn shade_row<S: Scalar, C: From<Rgb888>>(
+    shader: &Shader<'_, S>,
+    shading: &RowShading<'_, S>,
+    tests: &[RowEntry<S>],
+    rays: RowRays<S>,
+    row: &mut [C],
+) {
+    if shading.plain() {
+        for (slot, ray) in row.iter_mut().zip(rays) {
+            let c = ray.map_or(Vec3::ZERO, |ray| shader.shade_in_plain_row(shading, &ray));
+            *slot = bytes(c).into();
+        }
+    } else {
+        for (slot, ray) in row.iter_mut().zip(rays) {
+            let c = ray.map_or(Vec3::ZERO, |ray| shader.shade_in_row(shading, tests, &ray));
+            *slot = bytes(c).into();
+        }
     }
 }
 

@@ -564,13 +564,15 @@ pub fn closest_hit_in_row<S: Scalar>(
     best
 }
 
-/// The hit of every primary ray of a row, when the row's prepared tests decide it for all
-/// of them (each entry [`RowTest::At`] or [`RowTest::Miss`], no tree): what
-/// [`closest_hit_in_row`] finds for each ray. `None` when an entry needs each ray's test or
-/// nothing is hit.
-pub fn row_hit<S: Scalar>(row: &[RowEntry<S>]) -> Option<(usize, S)> {
+/// The plane a row's prepared tests put at one `t` for every primary ray of the row, the
+/// nearest such ([`RowTest::At`], ties to the first), and whether other objects of the row
+/// are tested ray by ray ([`RowTest::Hits`]: they may be nearer for some rays). Without
+/// them, every ray's closest hit ([`closest_hit_in_row`]) is this one. `None` when no
+/// entry is at one `t`.
+pub fn row_plane<S: Scalar>(row: &[RowEntry<S>]) -> Option<(usize, S, bool)> {
     let mut best = None;
     let mut limit = S::UNBOUNDED;
+    let mut tested = false;
     for entry in row {
         match entry.test {
             RowTest::Miss => {}
@@ -580,10 +582,10 @@ pub fn row_hit<S: Scalar>(row: &[RowEntry<S>]) -> Option<(usize, S)> {
                     limit = t;
                 }
             }
-            RowTest::Hits => return None,
+            RowTest::Hits => tested = true,
         }
     }
-    best
+    best.map(|(index, t)| (index, t, tested))
 }
 
 /// Whether any object `among` (but `skip`) is hit with `t < limit` and within the z rule:

@@ -370,10 +370,13 @@ const HARD_FLOAT: bool = cfg!(any(
 /// `floor(v 255)`. Below `2^-9` both are 0.
 #[inline]
 pub(crate) fn f32_byte_by_scaling(v: f32) -> u8 {
+    // Black first: the course's scenes are mostly dark.
+    if !(v > 0.0) {
+        return 0;
+    }
     if v >= 1.0 {
         return 255;
     }
-    // Saturating: negative values and NaN give 0.
     let x = (v * 4_294_967_296.0) as u32;
     ((u64::from(x) * 255) >> 32) as u8
 }

@@ -19,7 +19,9 @@
 
 use super::{MAX_DEPTH, Onward, Shader, add_diffuse, glint, in_cone, reflect, with_ambient};
 use crate::light::Light;
-use crate::object::{Among, Hit, RowEntry, RowOrigin, Surface, closest_hit_among, row_hit};
+use crate::object::{
+    Among, Hit, RowEntry, RowOrigin, Surface, closest_hit_among, closest_hit_in_row, row_plane,
+};
 use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;
@@ -40,6 +42,9 @@ struct RowLight<'s, S: Scalar> {
     cos_d: S::Wide,
     /// The surface's diffuse times the light's.
     lit: Vec3<S>,
+    /// Whether each pixel tests its shadow ray (some object in the way may depend on `x`);
+    /// else the light is known to reach the whole row.
+    shadow_per_pixel: bool,
 }
 
 /// Where a level's mirror rays go.
@@ -61,7 +66,7 @@ struct Level<'s, S: Scalar> {
     index: usize,
     t: S,
     surface: Surface<'s, S>,
-    /// The lights in front of the plane and not blocked along the row.
+    /// The lights in front of the plane and not known to be blocked along the row.
     lights: heapless::Vec<RowLight<'s, S>, ROW_LIGHTS>,
     mirror: Mirror,
     /// Whether the lights add glints.
@@ -70,6 +75,8 @@ struct Level<'s, S: Scalar> {
     ambient: bool,
     /// Whether the surface is transparent.
     transparent: bool,
+    /// Whether some lights' shadow rays are tested by each pixel.
+    shadows_per_pixel: bool,
 }
 
 /// The rays of one row meeting one plain plane at one `t`, and their mirror rays the next
@@ -78,12 +85,28 @@ struct Level<'s, S: Scalar> {
 #[derive(Clone, Debug)]
 pub struct RowShading<'s, S: Scalar> {
     levels: heapless::Vec<Level<'s, S>, ROW_LEVELS>,
+    /// Whether some objects of the row are tested ray by ray (else every ray meets the first
+    /// level's plane).
+    tested: bool,
+}
+
+impl<S: Scalar> RowShading<'_, S> {
+    /// Whether every ray of the row meets the row's plane (no object is tested ray by ray)
+    /// and the row decides every shadow ray there: the row's fast case.
+    pub fn plain(&self) -> bool {
+        !self.tested
+            && !self
+                .levels
+                .first()
+                .is_some_and(|level| level.shadows_per_pixel)
+    }
 }
 
 impl<'s, S: Scalar> Shader<'s, S> {
-    /// The shading of a row whose prepared tests (`row`, for rays from `origin`) give every
-    /// ray the same hit on a plain plane, or `None` for a row that is not like that (shade
-    /// each pixel with [`primary_in_row`](Self::primary_in_row)).
+    /// The shading of a row whose prepared tests (`row`, for rays from `origin`) put a plain
+    /// plane at one `t` for every ray (the rays that meet nothing nearer see it), or `None`
+    /// for a row that is not like that (shade each pixel with
+    /// [`primary_in_row`](Self::primary_in_row)).
     pub fn row_shading(
         &self,
         row: &[RowEntry<S>],
@@ -96,16 +119,14 @@ impl<'s, S: Scalar> Shader<'s, S> {
         if shadows && self.stages.filtered_shadows {
             return None;
         }
-        let (mut index, mut t) = row_hit(row)?;
+        let (mut index, mut t, tested) = row_plane(row)?;
         // A ray of the row in all but `x`, whose hits have the row's `y` and `z`.
         let mut ray = Ray::new(origin.eye, Vec3::new(S::ZERO, origin.dy, origin.dz));
         let all_ignore_x = self.all_ignore_x();
         let mut levels = heapless::Vec::new();
         loop {
             let object = self.objects.get(index)?;
-            let uniform = object.surface_is_uniform()
-                && (!shadows || all_ignore_x || self.shadows_ignore_x(index));
-            if !uniform {
+            if !object.surface_is_uniform() {
                 match levels.last_mut() {
                     // The pixels' mirror rays go their own ways from here.
                     Some(Level { mirror, .. }) => *mirror = Mirror::Trace,
@@ -114,7 +135,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 break;
             }
             let surface = object.surface(&self.palette, &ray, t)?;
-            let lights = self.row_lights(&surface, index, shadows);
+            let shadow_per_pixel = shadows && !(all_ignore_x || self.shadows_ignore_x(index));
+            let lights = self.row_lights(&surface, index, shadows, shadow_per_pixel);
             let (point, normal) = (surface.hit.point, surface.hit.normal);
             let material = surface.material;
             let mut level = Level {
@@ -130,6 +152,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 transparent: cfg!(feature = "transparency")
                     && self.stages.transparency
                     && material.transparency != S::ZERO,
+                shadows_per_pixel: shadow_per_pixel,
             };
             let mirrors = cfg!(feature = "reflection")
                 && self.stages.reflection
@@ -164,15 +187,17 @@ impl<'s, S: Scalar> Shader<'s, S> {
             levels.push(level).ok()?;
             (index, t) = (next_index, next_t);
         }
-        Some(RowShading { levels })
+        Some(RowShading { levels, tested })
     }
 
-    /// The lights that reach a level's surface along the whole row.
+    /// The lights that can reach a level's surface along the row; shadow rays are tested
+    /// once for the row, or by each pixel when `shadow_per_pixel`.
     fn row_lights(
         &self,
         surface: &Surface<'s, S>,
         index: usize,
         shadows: bool,
+        shadow_per_pixel: bool,
     ) -> heapless::Vec<RowLight<'s, S>, ROW_LIGHTS> {
         let (point, normal) = (surface.hit.point, surface.hit.normal);
         let mut lights = heapless::Vec::new();
@@ -184,35 +209,91 @@ impl<'s, S: Scalar> Shader<'s, S> {
             let Some(cos_d) = S::positive_dot_unit(to_light, normal) else {
                 continue;
             };
-            if shadows && self.blocked(point, to_light, index, light) {
+            if shadows && !shadow_per_pixel && self.blocked(point, to_light, index, light) {
                 continue;
             }
             let lit = surface.diffuse.mul_each(light.diffuse_emissivity);
             // Cannot fail: the row's shading is only made for at most `ROW_LIGHTS` lights.
-            let _ = lights.push(RowLight { light, cos_d, lit });
+            let _ = lights.push(RowLight {
+                light,
+                cos_d,
+                lit,
+                shadow_per_pixel,
+            });
         }
         lights
     }
 
     /// The colour seen along a primary ray of a row prepared by
-    /// [`row_shading`](Self::row_shading): what [`primary_in_row`](Self::primary_in_row)
-    /// gives.
+    /// [`row_shading`](Self::row_shading) from the row's tests `tests`: what
+    /// [`primary_in_row`](Self::primary_in_row) gives.
     #[inline]
-    pub fn shade_in_row(&self, row: &RowShading<'s, S>, ray: &Ray<S>) -> Vec3<S> {
-        // The first level in line (every pixel has it), the deeper ones out of line.
-        self.level(&row.levels, ray, S::ZERO, 0)
+    pub fn shade_in_row(
+        &self,
+        row: &RowShading<'s, S>,
+        tests: &[RowEntry<S>],
+        ray: &Ray<S>,
+    ) -> Vec3<S> {
+        if row.tested {
+            self.shade_in_tested_row(row, tests, ray)
+        } else if row.plain() {
+            self.shade_in_plain_row(row, ray)
+        } else {
+            self.shade_testing_shadows(row, ray)
+        }
     }
 
-    /// [`level`](Self::level) out of line, for the mirror rays.
+    /// [`shade_in_row`](Self::shade_in_row) for a [plain](RowShading::plain) row.
+    #[inline(always)]
+    pub(crate) fn shade_in_plain_row(&self, row: &RowShading<'s, S>, ray: &Ray<S>) -> Vec3<S> {
+        // The first level in line (every pixel has it), the deeper ones out of line.
+        self.level(&row.levels, ray, S::ZERO, 0, false)
+    }
+
+    /// [`shade_in_row`](Self::shade_in_row) where each pixel tests some shadow rays.
+    #[inline(never)]
+    fn shade_testing_shadows(&self, row: &RowShading<'s, S>, ray: &Ray<S>) -> Vec3<S> {
+        self.level(&row.levels, ray, S::ZERO, 0, true)
+    }
+
+    /// [`shade_in_row`](Self::shade_in_row) where an object tested ray by ray may be nearer
+    /// than the row's plane.
+    #[inline(never)]
+    fn shade_in_tested_row(
+        &self,
+        row: &RowShading<'s, S>,
+        tests: &[RowEntry<S>],
+        ray: &Ray<S>,
+    ) -> Vec3<S> {
+        let first = row.levels.first().map(|level| level.index);
+        match closest_hit_in_row(self.objects, tests, None, ray, self.z_limit) {
+            Some((index, _)) if Some(index) == first => {
+                self.level(&row.levels, ray, S::ZERO, 0, true)
+            }
+            Some((index, t)) => self.shade(ray, index, t, S::ZERO, 0),
+            None => Vec3::ZERO,
+        }
+    }
+
+    /// [`level`](Self::level) out of line, for the mirror rays (whose shadows the row
+    /// decides: mirror levels are made only where every object ignores `x`).
     #[inline(never)]
     fn deeper_level(&self, levels: &[Level<'s, S>], ray: &Ray<S>, total: S, depth: u8) -> Vec3<S> {
-        self.level(levels, ray, total, depth)
+        self.level(levels, ray, total, depth, false)
     }
 
     /// [`shade`](Self::shade) for a ray of the row at the first of `levels`, having come
-    /// `total` so far, at `depth`.
+    /// `total` so far, at `depth`; `test_shadows` when the level may leave shadow rays to
+    /// each pixel.
     #[inline(always)]
-    fn level(&self, levels: &[Level<'s, S>], ray: &Ray<S>, total: S, depth: u8) -> Vec3<S> {
+    fn level(
+        &self,
+        levels: &[Level<'s, S>],
+        ray: &Ray<S>,
+        total: S,
+        depth: u8,
+        test_shadows: bool,
+    ) -> Vec3<S> {
         let Some((level, deeper)) = levels.split_first() else {
             return Vec3::ZERO;
         };
@@ -225,7 +306,13 @@ impl<'s, S: Scalar> Shader<'s, S> {
         };
         let len = ray.length();
         let total = total + level.t * len;
-        let mut c = self.local_in_row(level, &hit, ray, total);
+        let mut c = if test_shadows {
+            self.local_in_row(level, &hit, ray, total, |lit, to_light| {
+                lit.shadow_per_pixel && self.blocked(hit.point, to_light, level.index, lit.light)
+            })
+        } else {
+            self.local_in_row(level, &hit, ray, total, |_, _| false)
+        };
         let onward = Onward {
             index: level.index,
             len,
@@ -249,9 +336,17 @@ impl<'s, S: Scalar> Shader<'s, S> {
         c
     }
 
-    /// [`local_divided`](Self::local_divided) with a level's lights.
+    /// [`local_divided`](Self::local_divided) with a level's lights, `blocked` telling
+    /// whether a light's shadow ray is blocked at this pixel.
     #[inline(always)]
-    fn local_in_row(&self, level: &Level<'s, S>, hit: &Hit<S>, ray: &Ray<S>, total: S) -> Vec3<S> {
+    fn local_in_row(
+        &self,
+        level: &Level<'s, S>,
+        hit: &Hit<S>,
+        ray: &Ray<S>,
+        total: S,
+        blocked: impl Fn(&RowLight<'s, S>, Vec3<S>) -> bool,
+    ) -> Vec3<S> {
         let Some(total) = total.to_wide() else {
             return Vec3::ZERO;
         };
@@ -265,6 +360,9 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 continue;
             };
             if cfg!(feature = "spotlight") && light.spot.is_some() && !in_cone(light, to_light) {
+                continue;
+            }
+            if blocked(lit, to_light) {
                 continue;
             }
             let per = add_diffuse(lit.lit, lit.cos_d, d_squared, total, &mut c);

@@ -311,9 +311,9 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
     }
 
     /// Whether the pixels of image row `row` (0 the top) are shaded together, as a
-    /// [`RowShading`](crate::shade::RowShading): every primary ray meets the same plain
-    /// plane at the same `t` (with a plan, in the types that do not normalise primary
-    /// rays). The pixels are the same either way; this tells where the work is shared.
+    /// [`RowShading`]: a plain plane at the same `t` for every primary ray of the row (with
+    /// a plan, in the types that do not normalise primary rays). The pixels are the same
+    /// either way; this tells where the work is shared.
     pub fn shades_row_together(&self, row: u16) -> bool {
         if self.shading != Shading::Color || row >= self.camera.height() {
             return false;

@@ -480,7 +480,8 @@ impl Scalar for f32 {
     fn from_i32(value: i32) -> Self {
         value as f32
     }
-    /// Exact without `f64` (see [`f32_byte_by_scaling`] and [`f32_byte_by_bits`]).
+    /// Exact without `f64`: with the float unit where there is one (`v 2^32` converted,
+    /// times 255, over `2^32`), else on the bits (the mantissa times 255, shifted).
     #[inline]
     fn to_byte(self) -> u8 {
         if HARD_FLOAT {

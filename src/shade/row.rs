@@ -275,9 +275,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
     ) -> Vec3<S> {
         let first = row.levels.first().map(|level| level.index);
         match closest_hit_in_row(self.objects, tests, None, ray, self.z_limit) {
-            Some((index, _)) if Some(index) == first => {
-                self.level(&row.levels, ray, S::ZERO, 0, true)
-            }
+            Some((index, _)) if Some(index) == first => self.shade_testing_shadows(row, ray),
             Some((index, t)) => self.shade(ray, index, t, S::ZERO, 0),
             None => Vec3::ZERO,
         }

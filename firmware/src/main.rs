@@ -14,7 +14,7 @@ mod static_scene;
 
 use core::ops::ControlFlow;
 use cortex_m_rt::entry;
-use cortex_m_semihosting::{debug, hprintln, syscall};
+use cortex_m_semihosting::{debug, syscall};
 use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
 use embedded_graphics::prelude::Point;
 use embedded_graphics::prelude::{DrawTarget, OriginDimensions, Pixel, Size};
@@ -25,7 +25,6 @@ use microray::error::TextureError;
 #[cfg(feature = "full")]
 use microray::parse::parse_scene_into;
 use microray::render::Renderer;
-use panic_semihosting as _;
 
 #[cfg(feature = "f32")]
 type Number = f32;
@@ -188,9 +187,16 @@ fn report(name: &str, result: Result<(), &str>) {
 
 fn report_frame(name: &str, suffix: &str, result: Result<(), &str>) {
     let stack = stack::peak();
+    let mut digits = [0u8; 10];
     match result {
-        Ok(()) => hprintln!("microray scene {}{} stack {}", name, suffix, stack),
-        Err(why) => hprintln!("microray scene {}{} error {}", name, suffix, why),
+        Ok(()) => console::line(&[
+            "microray scene ",
+            name,
+            suffix,
+            " stack ",
+            console::decimal(stack, &mut digits),
+        ]),
+        Err(why) => console::line(&["microray scene ", name, suffix, " error ", why]),
     }
 }
 
@@ -206,7 +212,20 @@ fn run_file(file: &scenes::SceneFile, scene: &mut FirmwareScene) -> Result<(), &
             .ok_or(TextureError::NotFound)
     };
     parse_scene_into(file.text.as_bytes(), textures, scene).map_err(|e| {
-        hprintln!("microray scene {} load error {}", file.name, e);
+        // Line and column only: the error's text needs the formatter, which the firmware
+        // does not link (`microray render` on the host says the rest).
+        let (mut line, mut column) = ([0u8; 10], [0u8; 10]);
+        let at = e
+            .position
+            .unwrap_or(microray::Position { line: 0, column: 0 });
+        console::line(&[
+            "microray scene ",
+            file.name,
+            " load error at ",
+            console::decimal(at.line as usize, &mut line),
+            ":",
+            console::decimal(at.column as usize, &mut column),
+        ]);
         "scene does not load"
     })?;
     render_to_file(file.name, scene)
@@ -262,11 +281,55 @@ fn main() -> ! {
     let result = run_basic(&mut scene);
     report(basic_scene::NAME, result);
     for (name, why) in SKIPPED {
-        hprintln!("microray scene {} skipped ({})", name, why);
+        console::line(&["microray scene ", name, " skipped (", why, ")"]);
     }
     debug::exit(debug::EXIT_SUCCESS);
     loop {
         cortex_m::asm::wfi();
+    }
+}
+
+/// The semihosting console, without `core::fmt` (its formatter and float printing are most
+/// of a small firmware's flash).
+mod console {
+    use cortex_m_semihosting::hio;
+
+    /// Writes `parts` and a newline to the console.
+    pub fn line(parts: &[&str]) {
+        for part in parts {
+            write(part.as_bytes());
+        }
+        write(b"\n");
+    }
+
+    fn write(bytes: &[u8]) {
+        if let Ok(mut out) = hio::hstdout() {
+            let _ = out.write_all(bytes);
+        }
+    }
+
+    /// `n` in decimal, in `digits`.
+    pub fn decimal(mut n: usize, digits: &mut [u8; 10]) -> &str {
+        let mut start = digits.len();
+        loop {
+            start -= 1;
+            digits[start] = b'0' + (n % 10) as u8;
+            n /= 10;
+            if n == 0 || start == 0 {
+                break;
+            }
+        }
+        core::str::from_utf8(&digits[start..]).unwrap_or("?")
+    }
+
+    /// A panic ends QEMU with a failure, without formatting the message.
+    #[panic_handler]
+    fn panic(_: &core::panic::PanicInfo) -> ! {
+        line(&["microray panic"]);
+        cortex_m_semihosting::debug::exit(cortex_m_semihosting::debug::EXIT_FAILURE);
+        loop {
+            cortex_m::asm::wfi();
+        }
     }
 }
 

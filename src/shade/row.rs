@@ -325,7 +325,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
             total,
             depth,
         };
-        if level.mirror != Mirror::None {
+        if cfg!(feature = "reflection") && level.mirror != Mirror::None {
             let reflected = Ray::with_length(hit.point, reflect(ray.dir, hit.normal), len);
             let seen = match level.mirror {
                 Mirror::Trace => self.follow(&reflected, &onward),
@@ -336,7 +336,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
             };
             c = c + seen * material.specular;
         }
-        if level.transparent {
+        if cfg!(feature = "transparency") && level.transparent {
             c = self.through(c, ray, &hit, material, &onward);
         }
         c
@@ -372,7 +372,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 continue;
             }
             let per = add_diffuse(lit.lit, lit.cos_d, d_squared, total, &mut c);
-            if level.glints {
+            if cfg!(feature = "glint") && level.glints {
                 c = c + glint(light, material, hit.normal, ray.dir, to_light, per);
             }
             per_total.get_or_insert(per);

@@ -415,3 +415,109 @@ pub(crate) fn comparison(root: &Path) -> String {
     }
     out
 }
+
+/// The parts a firmware's flash is told in (`flash_parts`).
+pub(crate) const PARTS: [&str; 8] = [
+    "microray: shading and geometry",
+    "microray: scene set-up (loading, render plan, tree)",
+    "microray: parser",
+    "microray: decimal reader",
+    "core::fmt",
+    "soft float and compiler built-ins",
+    "runtime and QEMU harness",
+    "other (core, heapless, embedded-graphics; constants and padding)",
+];
+
+/// The part of a function, from its demangled name (`None`: generic code such as `core`'s
+/// iterators, which counts for the function it is inlined into).
+fn part_of_name(name: &str) -> Option<usize> {
+    let crate_of = |prefix: &str| {
+        name.starts_with(prefix)
+            || name.starts_with(&format!("<{prefix}"))
+            || name.contains(&format!(" as {prefix}"))
+    };
+    if crate_of("core::fmt") || name.contains("core::num::flt2dec") || name.contains("fmt::float") {
+        Some(4)
+    } else if crate_of("compiler_builtins") || crate_of("libm") || name.starts_with("__") {
+        Some(5)
+    } else if crate_of("microray::parse") || crate_of("nom::") {
+        Some(2)
+    } else if crate_of("microray::decimal") {
+        Some(3)
+    } else if ["scene", "plan", "bvh", "range", "name", "error"]
+        .iter()
+        .any(|module| crate_of(&format!("microray::{module}::")))
+    {
+        Some(1)
+    } else if crate_of("microray::") {
+        Some(0)
+    } else if crate_of("microray_firmware") || name.contains("cortex_m") {
+        Some(6)
+    } else {
+        None
+    }
+}
+
+/// Bytes of a firmware's flash (`.vector_table`, `.text`, `.rodata`, `.data`) by part, in
+/// the order of [`PARTS`]: code by the innermost inlined function that belongs to a part
+/// (from the DWARF inline records, so a loop inlined into the harness counts for microray),
+/// data by its symbol's name.
+pub(crate) fn flash_parts(elf: &Path) -> Result<[u64; 8], String> {
+    let bytes = std::fs::read(elf).map_err(|e| e.to_string())?;
+    let file = object::File::parse(&*bytes).map_err(|e| e.to_string())?;
+    let symbolizer = Symbolizer::new(elf)?;
+    let mut parts = [0u64; 8];
+    let mut data_symbols = BTreeMap::new();
+    for symbol in file.symbols() {
+        if let (object::SymbolKind::Data, Ok(name)) = (symbol.kind(), symbol.name()) {
+            let name = addr2line::demangle_auto(Cow::Borrowed(name), None).into_owned();
+            data_symbols.insert(symbol.address(), (symbol.size(), name));
+        }
+    }
+    for section in file.sections() {
+        let (start, size) = (section.address(), section.size());
+        match section.name() {
+            Ok(".vector_table") => parts[6] += size,
+            Ok(".text") => {
+                // Thumb code: one look-up per halfword.
+                for address in (start..start + size).step_by(2) {
+                    let mut part = None;
+                    if let Ok(mut frames) = symbolizer.context.find_frames(address).skip_all_loads()
+                    {
+                        while let Ok(Some(frame)) = frames.next() {
+                            let name = frame
+                                .function
+                                .and_then(|f| f.demangle().ok().map(Cow::into_owned));
+                            if let Some(found) = name.as_deref().and_then(part_of_name) {
+                                part = Some(found);
+                                break;
+                            }
+                        }
+                    }
+                    if part.is_none() {
+                        // No DWARF (the compiler's built-ins, assembly): the ELF symbol.
+                        part = symbolizer
+                            .symbols
+                            .range(..=address)
+                            .next_back()
+                            .filter(|(s, (len, _))| address < *s + (*len).max(1))
+                            .and_then(|(_, (_, name))| part_of_name(name));
+                    }
+                    parts[part.unwrap_or(7)] += 2.min(start + size - address);
+                }
+            }
+            Ok(".rodata" | ".data") => {
+                let mut named = 0;
+                for (_, (len, name)) in data_symbols.range(start..start + size) {
+                    if let Some(part) = part_of_name(name) {
+                        parts[part] += len;
+                        named += len;
+                    }
+                }
+                parts[7] += size.saturating_sub(named);
+            }
+            _ => {}
+        }
+    }
+    Ok(parts)
+}

@@ -666,25 +666,34 @@ fn flash_by_part(root: &Path, conformance: Option<&Path>, size: &str) -> Result<
          |---|---|---|---|---|---|---|\n",
     )
     .replace("{spec0}", &spec0.to_string());
+    // Each build's flash by part: the minimal build and the full one with the parser.
+    let mut by_part: Vec<(String, [u64; 8], [u64; 8])> = Vec::new();
     for build in BUILDS.iter().filter(|b| {
         (b.machine, b.number) == ("mps2-an386", "f32")
             || (b.machine, b.number) == ("microbit", "fixed")
     }) {
-        let flash = |only: &str, full: bool| -> Result<u64, String> {
+        let flash = |only: &str, full: bool| -> Result<(u64, [u64; 8]), String> {
             let variant = Variant {
                 only,
                 plan: "",
                 full,
             };
-            Ok(
-                inspect(&build_firmware(root, build, conformance, size, &variant)?)?
-                    .1
-                    .flash,
-            )
+            let elf = build_firmware(root, build, conformance, size, &variant)?;
+            Ok((inspect(&elf)?.1.flash, profile::flash_parts(&elf)?))
         };
-        let minimal = flash("none", false)?;
-        let source_only = flash("none", true)?;
-        let with_parser = flash("spec0", true)?;
+        let (minimal, minimal_parts) = flash("none", false)?;
+        let (source_only, _) = flash("none", true)?;
+        let (with_parser, parser_parts) = flash("spec0", true)?;
+        let number = if build.number == "fixed" {
+            "I16F16"
+        } else {
+            build.number
+        };
+        by_part.push((
+            format!("{} {number}", build.machine),
+            minimal_parts,
+            parser_parts,
+        ));
         let _ = writeln!(
             out,
             "| {} | {} | {minimal} | {source_only} | {with_parser} | {} | {:.2} |",
@@ -699,6 +708,24 @@ fn flash_by_part(root: &Path, conformance: Option<&Path>, size: &str) -> Result<
                 .saturating_sub(spec0),
             minimal as f64 / with_parser as f64
         );
+    }
+    out.push_str(
+        "\nBy part (bytes; code by the innermost inlined function that belongs to a part, from \
+         the DWARF inline records, so the renderer inlined into the harness's frame loop counts \
+         for microray; data by symbol name):\n\n| part |",
+    );
+    for (build, _, _) in &by_part {
+        let _ = write!(out, " {build} minimal | {build} full + parser + spec0 |");
+    }
+    out.push_str("\n|---|");
+    out.push_str(&"---|---|".repeat(by_part.len()));
+    out.push('\n');
+    for (index, part) in profile::PARTS.iter().enumerate() {
+        let _ = write!(out, "| {part} |");
+        for (_, minimal, with_parser) in &by_part {
+            let _ = write!(out, " {} | {} |", minimal[index], with_parser[index]);
+        }
+        out.push('\n');
     }
     Ok(out)
 }

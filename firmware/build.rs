@@ -58,6 +58,15 @@ fn main() {
 
     // The micro:bit's 256 KiB of flash cannot hold the course's photographs (192 and 432 KiB).
     let texture_budget = if microbit { 16 * 1024 } else { usize::MAX };
+    // The scene's capacities: what the embedded scenes need (the scenes in source: `basic`
+    // has 4 objects, 3 materials and 2 lights; `static`, in the full build, 4, 4, 2 and a
+    // texture), so that its RAM is what a firmware author sizing a scene would give it.
+    let mut capacity = Capacity {
+        objects: 4,
+        materials: if parser { 4 } else { 3 },
+        lights: 2,
+        textures: usize::from(parser),
+    };
     let mut table = String::from("pub const SCENES: &[SceneFile] = &[\n");
     let mut skipped = String::from("pub const SKIPPED: &[(&str, &str)] = &[\n");
     for path in files {
@@ -82,6 +91,7 @@ fn main() {
             writeln!(skipped, "    ({name:?}, {why:?}),").unwrap();
             continue;
         }
+        capacity = capacity.max(&Capacity::of(&text));
         println!("cargo:rerun-if-changed={}", path.display());
         write!(
             table,
@@ -101,9 +111,17 @@ fn main() {
     }
     table.push_str("];\n");
     skipped.push_str("];\n");
+    let Capacity {
+        objects,
+        materials,
+        lights,
+        textures,
+    } = capacity;
     let generated = format!(
         "pub const WIDTH: u16 = {width};\npub const HEIGHT: u16 = {height};\n\
-         pub const OBJECTS: usize = {objects};\npub const COMPARE_PLAN: bool = {compare_plan};\n\
+         pub const OBJECTS: usize = {objects};\npub const MATERIALS: usize = {materials};\n\
+         pub const LIGHTS: usize = {lights};\npub const TEXTURES: usize = {textures};\n\
+         pub const COMPARE_PLAN: bool = {compare_plan};\n\
          {table}{skipped}"
     );
     fs::write(out.join("scenes.rs"), generated).unwrap();
@@ -122,6 +140,49 @@ fn collect(dir: &Path, files: &mut Vec<PathBuf>) {
             files.push(path.canonicalize().unwrap());
         }
     }
+}
+
+/// A scene's capacities: how many of each entity it holds.
+#[derive(Clone, Copy)]
+struct Capacity {
+    objects: usize,
+    materials: usize,
+    lights: usize,
+    textures: usize,
+}
+
+impl Capacity {
+    /// What a scene file defines: its blocks opened by each keyword.
+    fn of(text: &str) -> Self {
+        Self {
+            objects: object_count(text),
+            materials: block_count(text, &["material"]),
+            lights: block_count(text, &["light", "spotlight"]),
+            textures: block_count(text, &["texture"]),
+        }
+    }
+
+    fn max(&self, other: &Self) -> Self {
+        Self {
+            objects: self.objects.max(other.objects),
+            materials: self.materials.max(other.materials),
+            lights: self.lights.max(other.lights),
+            textures: self.textures.max(other.textures),
+        }
+    }
+}
+
+/// How many blocks a scene opens with one of `keywords` (`keyword NAME {`).
+fn block_count(text: &str, keywords: &[&str]) -> usize {
+    let words: Vec<&str> = text
+        .lines()
+        .map(|l| l.split('#').next().unwrap_or(""))
+        .flat_map(str::split_whitespace)
+        .collect();
+    words
+        .windows(3)
+        .filter(|w| keywords.contains(&w[0]) && w[2].starts_with('{'))
+        .count()
 }
 
 /// How many objects a scene defines: its blocks opened by an object keyword.

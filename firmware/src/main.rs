@@ -13,9 +13,10 @@ mod basic_scene;
 mod static_scene;
 
 use core::ops::ControlFlow;
+use core::sync::atomic::{AtomicUsize, Ordering};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, syscall};
-use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
+use embedded_graphics::pixelcolor::{PixelColor, Rgb888, RgbColor};
 use embedded_graphics::prelude::Point;
 use embedded_graphics::prelude::{DrawTarget, OriginDimensions, Pixel, Size};
 use embedded_graphics::primitives::Rectangle;
@@ -43,12 +44,12 @@ mod scenes {
 }
 #[cfg(feature = "full")]
 use scenes::SCENES;
-use scenes::{COMPARE_PLAN, HEIGHT, OBJECTS, SKIPPED, WIDTH};
+use scenes::{COMPARE_PLAN, HEIGHT, LIGHTS, MATERIALS, OBJECTS, SKIPPED, TEXTURES, WIDTH};
 
-/// Capacities that hold every embedded scene (build.rs leaves out scenes with more objects
-/// than the machine has room for); files up to 800 pixels wide load (they are rendered at
-/// `WIDTH` x `HEIGHT`).
-type FirmwareScene = Scene<'static, Number, OBJECTS, 8, 4, 1, 800>;
+/// Capacities that hold every embedded scene and no more (build.rs counts them, and leaves
+/// out scenes with more objects than the machine has room for); files up to 800 pixels wide
+/// load (they are rendered at `WIDTH` x `HEIGHT`).
+type FirmwareScene = Scene<'static, Number, OBJECTS, MATERIALS, LIGHTS, TEXTURES, 800>;
 
 // The markers: the QEMU plugin reads its counters when execution reaches their addresses.
 // Inline assembly is a side effect the compiler keeps, and a different number of NOPs keeps
@@ -78,10 +79,28 @@ pub extern "C" fn microray_count_frame() {
     cortex_m::asm::nop();
 }
 
+/// A colour as the three bytes the output file takes: the row buffer in the output's own
+/// format (an `Rgb888` takes four bytes).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct Rgb([u8; 3]);
+
+impl PixelColor for Rgb {
+    type Raw = ();
+}
+
+impl From<Rgb888> for Rgb {
+    fn from(c: Rgb888) -> Self {
+        Self([c.r(), c.g(), c.b()])
+    }
+}
+
+/// Pixels written to the output file at a time: the write buffer is small, the
+/// semihosting calls few.
+const CHUNK: usize = 32;
+
 /// A draw target that writes each row, as RGB bytes, to a semihosting file.
 struct RowFile {
     handle: usize,
-    bytes: [u8; 3 * WIDTH as usize],
 }
 
 impl OriginDimensions for RowFile {
@@ -91,31 +110,47 @@ impl OriginDimensions for RowFile {
 }
 
 impl DrawTarget for RowFile {
-    type Color = Rgb888;
+    type Color = Rgb;
     type Error = ();
 
-    fn draw_iter<I: IntoIterator<Item = Pixel<Rgb888>>>(&mut self, _: I) -> Result<(), ()> {
+    fn draw_iter<I: IntoIterator<Item = Pixel<Rgb>>>(&mut self, _: I) -> Result<(), ()> {
         // The renderer sends whole rows; single pixels would mean a bug.
         Err(())
     }
 
-    fn fill_contiguous<I: IntoIterator<Item = Rgb888>>(
+    fn fill_contiguous<I: IntoIterator<Item = Rgb>>(
         &mut self,
         area: &Rectangle,
         colors: I,
     ) -> Result<(), ()> {
-        let mut n = 0;
-        for (slot, c) in self.bytes.chunks_exact_mut(3).zip(colors) {
-            slot.copy_from_slice(&[c.r(), c.g(), c.b()]);
-            n += 3;
-        }
-        if n != 3 * area.size.width as usize {
-            return Err(());
-        }
         microray_count_stop();
-        // SYS_WRITE returns the number of bytes not written.
-        let left = unsafe { syscall!(WRITE, self.handle, self.bytes.as_ptr(), n) };
+        let mut bytes = [0u8; 3 * CHUNK];
+        let (mut n, mut total) = (0, 0);
+        let mut result = Ok(());
+        for c in colors {
+            bytes[n..n + 3].copy_from_slice(&c.0);
+            n += 3;
+            if n == bytes.len() {
+                result = result.and(self.write(&bytes[..n]));
+                total += n;
+                n = 0;
+            }
+        }
+        result = result.and(self.write(&bytes[..n]));
+        total += n;
         microray_count_start();
+        if total == 3 * area.size.width as usize {
+            result
+        } else {
+            Err(())
+        }
+    }
+}
+
+impl RowFile {
+    fn write(&self, bytes: &[u8]) -> Result<(), ()> {
+        // SYS_WRITE returns the number of bytes not written.
+        let left = unsafe { syscall!(WRITE, self.handle, bytes.as_ptr(), bytes.len()) };
         if left == 0 { Ok(()) } else { Err(()) }
     }
 }
@@ -160,15 +195,13 @@ fn render_frame(
     if handle == usize::MAX {
         return Err("cannot open the output file");
     }
-    let mut target = RowFile {
-        handle,
-        bytes: [0; 3 * WIDTH as usize],
-    };
-    let mut row = [Rgb888::BLACK; WIDTH as usize];
+    let mut target = RowFile { handle };
+    let mut row = [Rgb::default(); WIDTH as usize];
     let all = Rectangle::new(
         Point::zero(),
         Size::new(u32::from(WIDTH), u32::from(HEIGHT)),
     );
+    RENDER_BASE.store(stack::depth(), Ordering::Relaxed);
     microray_count_start();
     let result =
         Renderer::new(scene)
@@ -185,25 +218,65 @@ fn report(name: &str, result: Result<(), &str>) {
     report_frame(name, if COMPARE_PLAN { "+noplan" } else { "" }, result);
 }
 
+/// The peak stack of parsing the last scene file (0 for scenes in source): the stack is
+/// painted again before rendering, so that each is measured alone.
+static PARSE_PEAK: AtomicUsize = AtomicUsize::new(0);
+
+/// The stack already in use when the renderer is called (the scene, the harness's frames,
+/// the row buffer and the output's), so that the renderer's own share shows.
+static RENDER_BASE: AtomicUsize = AtomicUsize::new(0);
+
 fn report_frame(name: &str, suffix: &str, result: Result<(), &str>) {
-    let stack = stack::peak();
-    let mut digits = [0u8; 10];
+    let render = stack::peak();
+    let parse = PARSE_PEAK.load(Ordering::Relaxed);
+    PARSE_PEAK.store(0, Ordering::Relaxed);
+    let mut digits = [[0u8; 10]; 4];
+    let [both, parsing, rendering, base] = &mut digits;
     match result {
         Ok(()) => console::line(&[
             "microray scene ",
             name,
             suffix,
             " stack ",
-            console::decimal(stack, &mut digits),
+            console::decimal(render.max(parse), both),
+            " parse ",
+            console::decimal(parse, parsing),
+            " render ",
+            console::decimal(render, rendering),
+            " renderer ",
+            console::decimal(
+                render.saturating_sub(RENDER_BASE.load(Ordering::Relaxed)),
+                base,
+            ),
         ]),
         Err(why) => console::line(&["microray scene ", name, suffix, " error ", why]),
     }
 }
 
-/// Parses and renders one embedded scene file into the one scene there is.
+/// The RAM of the parts a render keeps on the stack, for the xtask's table.
+fn report_sizes() {
+    let mut digits = [[0u8; 10]; 4];
+    let [scene, renderer, row, output] = &mut digits;
+    console::line(&[
+        "microray sizes scene ",
+        console::decimal(core::mem::size_of::<FirmwareScene>(), scene),
+        " renderer ",
+        console::decimal(
+            core::mem::size_of::<Renderer<'static, Number, OBJECTS>>(),
+            renderer,
+        ),
+        " row ",
+        console::decimal(core::mem::size_of::<[Rgb; WIDTH as usize]>(), row),
+        " output ",
+        console::decimal(core::mem::size_of::<RowFile>(), output),
+    ]);
+}
+
+/// Parses one embedded scene file into the one scene there is (out of line, so that the
+/// parser's frames are gone before the render starts).
 #[cfg(feature = "full")]
 #[inline(never)]
-fn run_file(file: &scenes::SceneFile, scene: &mut FirmwareScene) -> Result<(), &'static str> {
+fn load_file(file: &scenes::SceneFile, scene: &mut FirmwareScene) -> Result<(), &'static str> {
     let textures = |filename: &str| {
         file.textures
             .iter()
@@ -227,8 +300,7 @@ fn run_file(file: &scenes::SceneFile, scene: &mut FirmwareScene) -> Result<(), &
             console::decimal(at.column as usize, &mut column),
         ]);
         "scene does not load"
-    })?;
-    render_to_file(file.name, scene)
+    })
 }
 
 /// Builds and renders the scene written in Rust source with every feature.
@@ -270,7 +342,11 @@ fn main() -> ! {
     {
         for file in SCENES {
             stack::paint();
-            let result = run_file(file, &mut scene);
+            let result = load_file(file, &mut scene).and_then(|()| {
+                PARSE_PEAK.store(stack::peak(), Ordering::Relaxed);
+                stack::paint();
+                render_to_file(file.name, &mut scene)
+            });
             report(file.name, result);
         }
         stack::paint();
@@ -280,6 +356,7 @@ fn main() -> ! {
     stack::paint();
     let result = run_basic(&mut scene);
     report(basic_scene::NAME, result);
+    report_sizes();
     for (name, why) in SKIPPED {
         console::line(&["microray scene ", name, " skipped (", why, ")"]);
     }
@@ -361,6 +438,13 @@ mod stack {
             unsafe { core::ptr::write_volatile(p as *mut u32, PATTERN) };
             p += 4;
         }
+    }
+
+    /// Bytes of stack in use now.
+    #[inline(always)]
+    pub fn depth() -> usize {
+        let (_, top) = bounds();
+        top - cortex_m::register::msp::read() as usize
     }
 
     /// Bytes of stack used since the last paint.

@@ -511,6 +511,8 @@ fn run_qemu(
     };
     let output = child.wait_with_output().map_err(|e| e.to_string())?;
     let console = String::from_utf8_lossy(&output.stdout).into_owned();
+    // Kept for reading after the run.
+    let _ = std::fs::write(out.join("console.txt"), &console);
     if !status.success() {
         return Err(format!(
             "{} {}: QEMU exited with {status}\n{console}{}",
@@ -591,7 +593,7 @@ fn compare(
     for line in console.lines() {
         let words: Vec<&str> = line.split_whitespace().collect();
         let (name, stack) = match words.as_slice() {
-            ["microray", "scene", name, "stack", stack] => {
+            ["microray", "scene", name, "stack", stack, ..] => {
                 (name.to_string(), stack.parse().unwrap_or(0))
             }
             ["microray", "scene", name, "skipped", ..] => {

@@ -112,7 +112,9 @@ fn component(v: Vec3<f64>, axis: u8) -> f64 {
 
 impl<S: Scalar, const N: usize> Bvh<S, N> {
     /// The tree of the objects `kept` (a render plan's, in increasing index order) seen from
-    /// `eye`; empty (every object unbounded) below [`MIN_OBJECTS`] bounded objects.
+    /// `eye`; empty (every object unbounded) below [`MIN_OBJECTS`] bounded objects. Out of
+    /// line: its working arrays must not stay in the caller's frame while it renders.
+    #[inline(never)]
     pub fn new(objects: &[Object<S>], kept: &[u16], eye: Vec3<S>) -> Self {
         let mut tree = Self {
             nodes: Vec::new(),

@@ -162,7 +162,9 @@ const POWERS_OF_TEN: [f64; 23] = [
     1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
 ];
 
-/// digits * 10^exponent, correctly rounded, via an exact big integer.
+/// digits * 10^exponent, correctly rounded, via an exact big integer. Out of line: its
+/// big integers (about a KiB of stack on a Cortex-M0) are needed only off the fast path.
+#[inline(never)]
 fn slow_path(digits: &[u8], exponent: i32, inexact: bool) -> Option<f64> {
     let mut n = Big::ZERO;
     for &digit in digits {

@@ -114,6 +114,7 @@ pub struct Plan<const OBJECTS: usize> {
 
 impl<const OBJECTS: usize> Plan<OBJECTS> {
     /// The plan for a scene's parts.
+    #[inline(never)]
     pub fn new<S: Scalar>(
         camera: &Camera<S>,
         materials: &[Material<S>],

@@ -255,8 +255,8 @@ fn report_frame(name: &str, suffix: &str, result: Result<(), &str>) {
 
 /// The RAM of the parts a render keeps on the stack, for the xtask's table.
 fn report_sizes() {
-    let mut digits = [[0u8; 10]; 4];
-    let [scene, renderer, row, output] = &mut digits;
+    let mut digits = [[0u8; 10]; 5];
+    let [scene, renderer, row, output, shading] = &mut digits;
     console::line(&[
         "microray sizes scene ",
         console::decimal(core::mem::size_of::<FirmwareScene>(), scene),
@@ -269,6 +269,11 @@ fn report_sizes() {
         console::decimal(core::mem::size_of::<[Rgb; WIDTH as usize]>(), row),
         " output ",
         console::decimal(core::mem::size_of::<RowFile>(), output),
+        " row-shading ",
+        console::decimal(
+            core::mem::size_of::<microray::shade::RowShading<'static, Number>>(),
+            shading,
+        ),
     ]);
 }
 

@@ -39,8 +39,9 @@ use core::ops::ControlFlow;
 pub const ROW_LIGHTS: usize = 4;
 
 /// The most hits along a row's rays (the primary hit, then mirror hits) that a
-/// [`RowShading`] prepares; deeper mirror rays are traced pixel by pixel.
-pub const ROW_LEVELS: usize = 3;
+/// [`RowShading`] prepares; deeper mirror rays are traced pixel by pixel. Two: the floor
+/// and what its mirror shows, at about 190 bytes of stack a level.
+pub const ROW_LEVELS: usize = 2;
 
 /// A light that reaches a level's hits: what it contributes that is the same along the row.
 #[derive(Clone, Copy, Debug)]

@@ -253,28 +253,32 @@ fn report_frame(name: &str, suffix: &str, result: Result<(), &str>) {
     }
 }
 
-/// The RAM of the parts a render keeps on the stack, for the xtask's table.
+/// The RAM of the parts a render keeps on the stack, and of one slot of each of the
+/// scene's capacities, for the xtask's table.
 fn report_sizes() {
-    let mut digits = [[0u8; 10]; 5];
-    let [scene, renderer, row, output, shading] = &mut digits;
-    console::line(&[
-        "microray sizes scene ",
-        console::decimal(core::mem::size_of::<FirmwareScene>(), scene),
-        " renderer ",
-        console::decimal(
-            core::mem::size_of::<Renderer<'static, Number, OBJECTS>>(),
-            renderer,
-        ),
-        " row ",
-        console::decimal(core::mem::size_of::<[Rgb; WIDTH as usize]>(), row),
-        " output ",
-        console::decimal(core::mem::size_of::<RowFile>(), output),
-        " row-shading ",
-        console::decimal(
-            core::mem::size_of::<microray::shade::RowShading<'static, Number>>(),
-            shading,
-        ),
-    ]);
+    use core::mem::size_of;
+    use microray::{Light, Material, Object, Texture, shade::RowShading};
+    let sizes = [
+        ("scene", size_of::<FirmwareScene>()),
+        ("renderer", size_of::<Renderer<'static, Number, OBJECTS>>()),
+        ("row", size_of::<[Rgb; WIDTH as usize]>()),
+        ("output", size_of::<RowFile>()),
+        ("row-shading", size_of::<RowShading<'static, Number>>()),
+        ("object", size_of::<Object<Number>>()),
+        ("material", size_of::<Material<Number>>()),
+        ("light", size_of::<Light<Number>>()),
+        ("texture", size_of::<Texture<'static>>()),
+    ];
+    console::line(&["microray sizes"]);
+    for (name, bytes) in sizes {
+        let mut digits = [0u8; 10];
+        console::line(&[
+            "microray size ",
+            name,
+            " ",
+            console::decimal(bytes, &mut digits),
+        ]);
+    }
 }
 
 /// Parses one embedded scene file into the one scene there is (out of line, so that the

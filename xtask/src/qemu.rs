@@ -8,6 +8,7 @@ use microray::render::render;
 use microray::scalar::I16F16;
 use object::{Object, ObjectSection, ObjectSymbol};
 use std::collections::BTreeMap;
+use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -33,6 +34,9 @@ pub(crate) struct Options {
     pub(crate) compare_plan: bool,
     /// The minimal firmware: no optional microray feature, the `basic` scene only.
     pub(crate) minimal: bool,
+    /// The optimisation level of the firmware build (`CARGO_PROFILE_RELEASE_OPT_LEVEL`),
+    /// else the firmware's profile's.
+    pub(crate) opt_level: Option<String>,
 }
 
 /// What a firmware build embeds and enables.
@@ -43,6 +47,8 @@ struct Variant<'a> {
     plan: &'a str,
     /// Every microray feature (else the minimal build).
     full: bool,
+    /// The optimisation level (`""`: the firmware's profile's).
+    opt_level: &'a str,
 }
 
 /// One firmware build: a machine and a number type.
@@ -130,6 +136,7 @@ pub fn run(args: &[String]) -> Result<(), String> {
             }
             "--compare-plan" => options.compare_plan = true,
             "--minimal" => options.minimal = true,
+            "--opt-levels" => return opt_levels(),
             "--build" => {
                 options.build = Some(rest.next().ok_or("--build takes MACHINE-NUMBER")?.clone())
             }
@@ -177,6 +184,11 @@ pub fn run(args: &[String]) -> Result<(), String> {
             conformance_dir(&root).as_deref(),
             &size,
         )?);
+        table.push_str(&ram_by_part(&root)?);
+        if let Ok(levels) = std::fs::read_to_string(root.join("docs/opt-levels.md")) {
+            table.push('\n');
+            table.push_str(&levels);
+        }
         table.push_str(&profile::comparison(&root));
     }
     println!("{table}");
@@ -185,6 +197,153 @@ pub fn run(args: &[String]) -> Result<(), String> {
         std::fs::write(root.join("docs/firmware.md"), &table).map_err(|e| e.to_string())?;
     }
     measurement.check()
+}
+
+/// RAM by part for spec0 at 320x240 on both machines: the sizes the firmware reports
+/// (`microray size NAME BYTES`) and the peaks of its stack while parsing and rendering.
+fn ram_by_part(root: &Path) -> Result<String, String> {
+    let mut columns = Vec::new();
+    for name in ["mps2-an386-f32", "microbit-fixed"] {
+        let options = Options {
+            only: "spec0".into(),
+            build: Some(name.into()),
+            ..Options::default()
+        };
+        let measured = measure(root, 320, 240, &options)?;
+        measured.check()?;
+        let spec0 = measured
+            .rows
+            .iter()
+            .find(|r| r.scene == "spec0")
+            .ok_or("spec0 was not rendered")?;
+        let console =
+            std::fs::read_to_string(root.join("target/qemu").join(name).join("console.txt"))
+                .map_err(|e| e.to_string())?;
+        let mut values: HashMap<String, u64> = HashMap::new();
+        for line in console.lines() {
+            let words: Vec<&str> = line.split_whitespace().collect();
+            match words.as_slice() {
+                ["microray", "size", part, bytes] => {
+                    values.insert((*part).to_string(), bytes.parse().unwrap_or(0));
+                }
+                ["microray", "scene", "spec0", rest @ ..] => {
+                    for pair in rest.chunks(2) {
+                        if let [key, value] = pair {
+                            values.insert(format!("spec0 {key}"), value.parse().unwrap_or(0));
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+        values.insert("static".into(), spec0.size.ram);
+        values.insert("total".into(), spec0.size.ram + spec0.stack);
+        columns.push((name, values));
+    }
+    let rows = [
+        (
+            "scene",
+            "the scene (capacities: what the embedded scenes need)",
+        ),
+        ("object", "- one object slot"),
+        ("material", "- one material slot"),
+        ("light", "- one light slot"),
+        ("texture", "- one texture slot"),
+        ("renderer", "the renderer (render plan, tree, shader)"),
+        (
+            "row",
+            "the row buffer (320 pixels in the output's 3-byte colour)",
+        ),
+        (
+            "row-shading",
+            "a row shaded together (its levels and lights)",
+        ),
+        (
+            "spec0 renderer",
+            "the renderer's own stack: row lists, row shading, the deepest trace chain",
+        ),
+        ("spec0 parse", "peak stack while parsing spec0.txt"),
+        ("spec0 render", "peak stack while rendering"),
+        ("static", "static RAM (`.data + .bss`)"),
+        ("total", "**static RAM + peak stack**"),
+    ];
+    let mut out = String::from(
+        "\n## RAM by part: spec0 at 320x240\n\n\
+         Bytes, from `size_of` of each part in the firmware and its painted stack (the peaks \
+         include the scene and the harness's frames beneath the parser and the renderer; the \
+         stack is painted again between parsing and rendering).\n\n| part |",
+    );
+    for (name, _) in &columns {
+        let _ = write!(out, " {name} |");
+    }
+    out.push_str("\n|---|");
+    out.push_str(&"---|".repeat(columns.len()));
+    out.push('\n');
+    for (key, label) in rows {
+        let _ = write!(out, "| {label} |");
+        for (_, values) in &columns {
+            let _ = write!(out, " {} |", values.get(key).copied().unwrap_or(0));
+        }
+        out.push('\n');
+    }
+    Ok(out)
+}
+
+/// The optimisation levels a firmware can be built at, against each other: flash of the
+/// minimal build and of the full one with the parser and spec0, and spec0's instructions a
+/// pixel at 320x240, on both machines (`cargo xtask qemu --opt-levels`, which writes
+/// `docs/opt-levels.md`; the complete run includes it in `docs/firmware.md`).
+fn opt_levels() -> Result<(), String> {
+    let root = root()?;
+    let conformance = conformance_dir(&root);
+    let mut out = String::from(
+        "## Optimisation level: flash against speed\n\n\
+         Written by `cargo xtask qemu --opt-levels`: each firmware built at each level \
+         (`CARGO_PROFILE_RELEASE_OPT_LEVEL`), flash in bytes as above, spec0's instructions a \
+         pixel at 320x240 (its frames compared with the host's like every other).\n\n\
+         | opt-level | M4F f32 minimal | M4F f32 full + parser + spec0 | M4F f32 spec0 instr/px | \
+         M0 I16F16 minimal | M0 I16F16 full + parser + spec0 | M0 I16F16 spec0 instr/px |\n\
+         |---|---|---|---|---|---|---|\n",
+    );
+    for level in ["3", "2", "s", "z"] {
+        let _ = write!(out, "| {level} |");
+        for build_name in ["mps2-an386-f32", "microbit-fixed"] {
+            let build = BUILDS
+                .iter()
+                .find(|b| format!("{}-{}", b.machine, b.number) == build_name)
+                .ok_or("no such build")?;
+            let minimal = Variant {
+                only: "none",
+                plan: "",
+                full: false,
+                opt_level: level,
+            };
+            let elf = build_firmware(&root, build, conformance.as_deref(), "320x240", &minimal)?;
+            let minimal_flash = inspect(&elf)?.1.flash;
+            let options = Options {
+                only: "spec0".into(),
+                build: Some(build_name.into()),
+                opt_level: Some(level.into()),
+                ..Options::default()
+            };
+            let measured = measure(&root, 320, 240, &options)?;
+            measured.check()?;
+            let spec0 = measured
+                .rows
+                .iter()
+                .find(|r| r.scene == "spec0")
+                .ok_or("spec0 was not rendered")?;
+            let _ = write!(
+                out,
+                " {minimal_flash} | {} | {:.0} |",
+                spec0.size.flash,
+                spec0.insns as f64 / (320.0 * 240.0)
+            );
+        }
+        out.push('\n');
+    }
+    println!("{out}");
+    std::fs::write(root.join("docs/opt-levels.md"), &out).map_err(|e| e.to_string())
 }
 
 /// The repository's root.
@@ -257,6 +416,7 @@ pub(crate) fn measure(
             continue;
         }
         let variant = Variant {
+            opt_level: options.opt_level.as_deref().unwrap_or(""),
             only: &options.only,
             plan: if options.compare_plan { "compare" } else { "" },
             full: !options.minimal,
@@ -402,6 +562,9 @@ fn build_firmware(
     ];
     if !conformance.is_empty() {
         envs.push(("MICRORAY_CONFORMANCE", conformance.as_str()));
+    }
+    if !variant.opt_level.is_empty() {
+        envs.push(("CARGO_PROFILE_RELEASE_OPT_LEVEL", variant.opt_level));
     }
     let mut args = vec![
         "build",
@@ -679,6 +842,7 @@ fn flash_by_part(root: &Path, conformance: Option<&Path>, size: &str) -> Result<
                 only,
                 plan: "",
                 full,
+                opt_level: "",
             };
             let elf = build_firmware(root, build, conformance, size, &variant)?;
             Ok((inspect(&elf)?.1.flash, profile::flash_parts(&elf)?))

@@ -1,0 +1,132 @@
+//! A scene sized for the scene it holds (the crate docs' "Sizing a scene"): the capacities
+//! it needs and not one more, a row buffer in the panel's own colour type, and the render
+//! is the same as with room to spare; one object more is a capacity error, not a panic.
+
+use embedded_graphics::pixelcolor::{Rgb565, Rgb888};
+use embedded_graphics::prelude::*;
+use embedded_graphics::primitives::Rectangle;
+use microray::error::{Collection, ErrorKind};
+use microray::parse::{no_textures, parse_scene_into};
+use microray::render::Renderer;
+use microray::scalar::I16F16;
+use microray::{Scalar, Scene};
+use std::convert::Infallible;
+use std::ops::ControlFlow;
+
+/// A panel that keeps what it is sent, in its own colour type.
+struct Panel<C> {
+    size: Size,
+    pixels: Vec<C>,
+}
+
+impl<C: PixelColor + Default> Panel<C> {
+    fn new(width: u32, height: u32) -> Self {
+        Self {
+            size: Size::new(width, height),
+            pixels: vec![C::default(); (width * height) as usize],
+        }
+    }
+}
+
+impl<C: PixelColor> OriginDimensions for Panel<C> {
+    fn size(&self) -> Size {
+        self.size
+    }
+}
+
+impl<C: PixelColor> DrawTarget for Panel<C> {
+    type Color = C;
+    type Error = Infallible;
+    fn draw_iter<I: IntoIterator<Item = Pixel<C>>>(&mut self, pixels: I) -> Result<(), Infallible> {
+        for Pixel(p, c) in pixels {
+            let i = p.y as usize * self.size.width as usize + p.x as usize;
+            self.pixels[i] = c;
+        }
+        Ok(())
+    }
+}
+
+/// The project's smallest scene: a floor, a ball, one light (2 objects, 2 materials).
+const MINIMAL: &[u8] = include_bytes!("../scenes/minimal.txt");
+
+fn render<
+    S: Scalar,
+    const O: usize,
+    const M: usize,
+    const L: usize,
+    const T: usize,
+    const W: usize,
+>(
+    scene: &Scene<'_, S, O, M, L, T, W>,
+) -> Vec<Rgb565> {
+    let mut panel = Panel::<Rgb565>::new(320, 240);
+    // The row buffer in the panel's colour type: two bytes a pixel.
+    let mut row = [Rgb565::default(); W];
+    let area = Rectangle::new(Point::zero(), Size::new(320, 240));
+    Renderer::new(scene)
+        .render_area(&mut panel, area, &mut row, |_| ControlFlow::Continue(()))
+        .unwrap();
+    panel.pixels
+}
+
+fn exact_and_roomy<S: Scalar>() {
+    // Exactly what the scene needs: 2 objects, 2 materials, 1 light, no texture, 320 wide.
+    let mut exact: Scene<'_, S, 2, 2, 1, 0, 320> = Scene::empty();
+    parse_scene_into(MINIMAL, no_textures, &mut exact).unwrap();
+    let mut roomy: Scene<'_, S, 32, 16, 8, 2, 1024> = Scene::empty();
+    parse_scene_into(MINIMAL, no_textures, &mut roomy).unwrap();
+    let (a, b) = (render(&exact), render(&roomy));
+    assert_eq!(
+        a,
+        b,
+        "{}: the exactly sized scene renders differently",
+        S::NAME
+    );
+    // Not a blank image: the floor and the ball (below the horizon) are lit.
+    let lit = a.iter().filter(|&&c| c != Rgb565::default()).count();
+    assert!(lit > 320 * 240 / 4, "{}: only {lit} pixels lit", S::NAME);
+    // The exactly sized scene is smaller than the roomy one by the slots it leaves out.
+    assert!(
+        core::mem::size_of_val(&exact) * 4 < core::mem::size_of_val(&roomy),
+        "{}: {} against {} bytes",
+        S::NAME,
+        core::mem::size_of_val(&exact),
+        core::mem::size_of_val(&roomy)
+    );
+}
+
+#[test]
+fn a_scene_sized_for_its_file_renders_as_one_with_room_to_spare() {
+    exact_and_roomy::<f32>();
+    exact_and_roomy::<I16F16>();
+    exact_and_roomy::<f64>();
+}
+
+#[test]
+fn one_object_too_many_is_a_capacity_error() {
+    let mut small: Scene<'_, I16F16, 1, 2, 1, 0, 320> = Scene::empty();
+    let error = parse_scene_into(MINIMAL, no_textures, &mut small).unwrap_err();
+    assert!(
+        matches!(
+            error.kind,
+            ErrorKind::CapacityExceeded {
+                what: Collection::Objects,
+                capacity: 1
+            }
+        ),
+        "{error:?}"
+    );
+    // Where: the second object's block.
+    assert_eq!(error.position.map(|p| p.line), Some(28), "{error:?}");
+    // A row buffer narrower than the image is an error too.
+    let mut scene: Scene<'_, I16F16, 2, 2, 1, 0, 320> = Scene::empty();
+    parse_scene_into(MINIMAL, no_textures, &mut scene).unwrap();
+    let mut panel = Panel::<Rgb888>::new(320, 240);
+    let mut row = [Rgb888::default(); 100];
+    let area = Rectangle::new(Point::zero(), Size::new(320, 240));
+    assert!(
+        Renderer::new(&scene)
+            .render_area(&mut panel, area, &mut row, |_| ControlFlow::Continue(()))
+            .is_err()
+    );
+}

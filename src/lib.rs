@@ -45,6 +45,13 @@
 //! [`ErrorKind::NotCompiledIn`], which names the feature (and, from the parser, the line and
 //! column that asks for it).
 //!
+//! ## On a microcontroller
+//! A scene's capacities are part of its type and cost RAM slot by slot: [`Scene`]'s docs
+//! ("Sizing a scene") give each slot's bytes on a 32-bit Cortex-M and size one for a known
+//! scene file; render with [`render::Renderer::render_area`] into the panel with a row buffer
+//! in the panel's own colour type. The `firmware/` directory renders every scene this way in
+//! QEMU, and `docs/firmware.md` measures flash and RAM by part.
+//!
 //! ## Layout
 //! One concept per module: [`scalar`], [`vec3`], [`ray`], [`camera`], [`material`], [`light`],
 //! [`texture`], [`object`] (one file per kind), [`scene`], `parse`, `print`, [`plan`] (what a

@@ -40,6 +40,54 @@ pub const DEFAULT_MAX_WIDTH: usize = 1024;
 /// `'t` is the lifetime of texture bytes; the capacities are `OBJECTS`, `MATERIALS`,
 /// `LIGHTS`, `TEXTURES` and the widest image `MAX_WIDTH`. Materials and textures must be
 /// added before the objects that name them, as in the files.
+///
+/// # Sizing a scene
+///
+/// For a known scene file, give each capacity what the file defines and no more (count its
+/// `material`, `light`/`spotlight`, `texture` and object blocks), and `MAX_WIDTH` the
+/// panel's width: a scene is one fixed-size value, on the stack or in a `static`, and every
+/// slot costs RAM whether it is used or not. On a 32-bit Cortex-M, in `f32` or `I16F16`
+/// (measured by `cargo xtask qemu`, `docs/firmware.md` "RAM by part"):
+///
+/// | part | bytes |
+/// |---|---|
+/// | an object slot | 176 |
+/// | a material slot | 84 |
+/// | a light slot | 108 |
+/// | a texture slot | 180 (the pixels stay where the bytes are: flash) |
+/// | the rest of the scene (camera, scale) | about 90 |
+/// | the [`Renderer`](crate::render::Renderer) (plan, tree, shader) | 288 for 4 objects, growing with `OBJECTS` |
+/// | the row buffer | the width times the panel colour's size: 2 bytes for `Rgb565`, which the renderer converts to as it goes |
+/// | the renderer's own stack | about 0.9 KiB for a floor and a wall (spec0), plus a trace frame (about 0.5 KiB on a Cortex-M0) per level of mirrors or glass the scene nests |
+///
+/// A slot too few is an [`ErrorKind::CapacityExceeded`] naming the collection (and, from the
+/// parser, the line and column of the block that did not fit), never a panic; a row buffer
+/// narrower than the image is a [`RenderError`](crate::render::RenderError). spec0 (a floor,
+/// a wall, two materials, one light) at 320x240 on a Cortex-M0 in `I16F16` runs in under 6 KiB
+/// of RAM this way, parser included:
+///
+/// ```
+/// use microray::{parse::{no_textures, parse_scene_into}, render::Renderer, scalar::I16F16, Scene};
+///
+/// const SPEC0: &[u8] = b"
+///     camera c { pixeldim 320 240 worlddim 8 6 viewpoint 4 3 3 }
+///     material white { diffuse 3 3 3 ambient 1 1 1 specular 0.8 }
+///     material green { diffuse 1 6 1 }
+///     light center { location 4 10 0 emissivity 5 5 5 }
+///     plane floor { material white normal 0 1 0 point 0 0 0 }
+///     plane back { material green normal 0 0 1 point 0 0 -6 }
+/// ";
+/// // 2 objects, 2 materials, 1 light, no texture, 320 pixels wide.
+/// type Spec0 = Scene<'static, I16F16, 2, 2, 1, 0, 320>;
+/// let mut scene = Spec0::empty();
+/// parse_scene_into(SPEC0, no_textures, &mut scene)?;
+/// let renderer = Renderer::new(&scene);
+/// assert_eq!(renderer.size().width, 320);
+/// // One material too few does not fit, and says so.
+/// let mut small: Scene<'static, I16F16, 2, 1, 1, 0, 320> = Scene::empty();
+/// assert!(parse_scene_into(SPEC0, no_textures, &mut small).is_err());
+/// # Ok::<(), microray::Error>(())
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene<
     't,

@@ -111,6 +111,15 @@ fn component(v: Vec3<f64>, axis: u8) -> f64 {
 }
 
 impl<S: Scalar, const N: usize> Bvh<S, N> {
+    /// No tree (what a renderer holds without the `plan` feature).
+    pub const fn empty() -> Self {
+        Self {
+            nodes: Vec::new(),
+            order: Vec::new(),
+            unbounded: Vec::new(),
+        }
+    }
+
     /// The tree of the objects `kept` (a render plan's, in increasing index order) seen from
     /// `eye`; empty (every object unbounded) below [`MIN_OBJECTS`] bounded objects. Out of
     /// line: its working arrays must not stay in the caller's frame while it renders.

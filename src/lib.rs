@@ -30,6 +30,7 @@
 //! |---|---|---|
 //! | `std` | yes | the `microray` command-line tracer, file-based texture loading and an RGB framebuffer writing PPM/PNG (`host`); implies `full` |
 //! | `full` | yes | all of the below |
+//! | `plan` | in `full` | the render plan ([`plan`]): skipped stages, per-row object lists and row tests, rows shaded together, the bounding-volume tree ([`bvh`]) and the shadow cache; without it every pixel takes the general path (the same pixels, slower, in less flash) |
 //! | `parser` | in `full` | the scene-file parser (`parse`); without it, scenes are built from `*Def` values in Rust source |
 //! | `print` | in `full` | scene text out (`print`, each object's `printer`) |
 //! | `fplane`, `tiled-plane` | in `full` | the finite and the tiled plane |
@@ -40,7 +41,7 @@
 //!
 //! Without default features the crate is `#![no_std]`, has no `alloc`, and builds for
 //! `thumbv6m-none-eabi`, `thumbv7em-none-eabihf` and `riscv32imc-unknown-none-elf`. What is
-//! always there: planes, spheres, point lights, ambient and diffuse light, the render plan. A
+//! always there: planes, spheres, point lights, ambient and diffuse light. A
 //! scene that needs a feature the build left out fails to load with
 //! [`ErrorKind::NotCompiledIn`], which names the feature (and, from the parser, the line and
 //! column that asks for it).

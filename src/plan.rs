@@ -168,6 +168,16 @@ impl<const OBJECTS: usize> Plan<OBJECTS> {
         }
     }
 
+    /// No plan: every stage, no object listed (what a renderer holds without the `plan`
+    /// feature).
+    pub const fn empty() -> Self {
+        Self {
+            stages: Stages::ALL,
+            kept: Vec::new(),
+            spans: Vec::new(),
+        }
+    }
+
     /// The stages that run.
     pub fn stages(&self) -> Stages {
         self.stages

@@ -144,20 +144,27 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
     >(
         scene: &'s Scene<'_, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>,
     ) -> Self {
-        let plan = Plan::new(
-            scene.camera(),
-            scene.materials(),
-            scene.lights(),
-            scene.objects(),
-            scene.z_limit(),
-        );
-        let bvh = Bvh::new(scene.objects(), plan.kept(), scene.camera().viewpoint());
+        // Without the `plan` feature neither is built, and the code that builds and uses
+        // them is left out of the binary.
+        let (plan, bvh) = if cfg!(feature = "plan") {
+            let plan = Plan::new(
+                scene.camera(),
+                scene.materials(),
+                scene.lights(),
+                scene.objects(),
+                scene.z_limit(),
+            );
+            let bvh = Bvh::new(scene.objects(), plan.kept(), scene.camera().viewpoint());
+            (plan, bvh)
+        } else {
+            (Plan::empty(), Bvh::empty())
+        };
         Self {
             camera: scene.camera(),
             shader: Shader::new(scene.objects(), scene.lights(), scene.palette()),
             plan,
             bvh,
-            planned: true,
+            planned: cfg!(feature = "plan"),
             shading: Shading::Color,
         }
     }
@@ -169,9 +176,13 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
 
     /// The same renderer with its plan (`true`, the default) or without (`false`: every
     /// stage runs and every ray is tested against every object). The pixels are the same
-    /// either way; without a plan is the reference the plan is tested against.
+    /// either way; without a plan is the reference the plan is tested against. A build
+    /// without the `plan` feature has no plan to switch on.
     pub fn with_plan(self, planned: bool) -> Self {
-        Self { planned, ..self }
+        Self {
+            planned: planned && cfg!(feature = "plan"),
+            ..self
+        }
     }
 
     /// The bounding-volume hierarchy of the plan's objects (empty below
@@ -187,7 +198,7 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
 
     /// The shader with the plan's stages and objects, or everything without a plan.
     fn shader(&self) -> Shader<'_, S> {
-        if self.planned {
+        if cfg!(feature = "plan") && self.planned {
             let plan = &self.plan;
             let among = match self.bvh.tree() {
                 Some(tree) => Among::Tree(tree),
@@ -202,7 +213,7 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
     /// The objects primary rays of `row` (0 the top) can hit, by index; `None` means all.
     fn row_objects(&self, row: u16) -> Option<heapless::Vec<u16, OBJECTS>> {
         let y = self.camera.height().saturating_sub(1).saturating_sub(row);
-        self.planned.then(|| self.plan.objects_in_row(y))
+        (cfg!(feature = "plan") && self.planned).then(|| self.plan.objects_in_row(y))
     }
 
     /// The image size in pixels.
@@ -291,7 +302,7 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
         camera_y: u16,
         rays: &RowRays<S>,
     ) -> Option<heapless::Vec<RowEntry<S>, OBJECTS>> {
-        if !self.planned {
+        if !(cfg!(feature = "plan") && self.planned) {
             return None;
         }
         let origin = rays.origin(self.shader.z_limit());

@@ -446,7 +446,8 @@ pub fn closest_hit_among<S: Scalar>(
     limit: S,
     z_limit: S,
 ) -> Option<(usize, S)> {
-    if let Among::Tree(tree) = among {
+    // Trees come only from a render plan: without the feature the walk is left out.
+    if let (true, Among::Tree(tree)) = (cfg!(feature = "plan"), among) {
         let mut nearest = Nearest { best: None, limit };
         search_tree(objects, tree, ray, skip, z_limit, &mut nearest);
         return nearest.best;
@@ -552,7 +553,7 @@ pub fn closest_hit_in_row<S: Scalar>(
             }
         }
     }
-    if let Some(tree) = tree {
+    if let (true, Some(tree)) = (cfg!(feature = "plan"), tree) {
         let mut nearest = Nearest { best, limit };
         let no_unbounded = Tree {
             unbounded: &[],
@@ -612,7 +613,7 @@ pub fn any_hit_among<S: Scalar>(
             ControlFlow::Continue(())
         }
     });
-    if let (false, Among::Tree(tree)) = (blocked, among) {
+    if let (false, true, Among::Tree(tree)) = (blocked, cfg!(feature = "plan"), among) {
         blocked = first_blocker_in_tree(objects, tree, ray, skip, limit, z_limit).is_some();
     }
     blocked
@@ -687,7 +688,7 @@ pub fn any_hit_remembering<S: Scalar>(
     z_limit: S,
     last: Option<&core::cell::Cell<u16>>,
 ) -> bool {
-    let (Among::Tree(tree), Some(last)) = (among, last) else {
+    let (true, Among::Tree(tree), Some(last)) = (cfg!(feature = "plan"), among, last) else {
         return any_hit_among(objects, among, ray, skip, limit, z_limit);
     };
     let remembered = last.get();

@@ -456,8 +456,11 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let shadow = Ray::new(from, l);
         let z = self.z_limit;
         match self.among {
-            // Only tree walks are worth remembering a blocker for.
-            Among::Tree(_) => self.blocked_remembering(&shadow, index, light),
+            // Only tree walks are worth remembering a blocker for (and trees come only from
+            // a render plan).
+            Among::Tree(_) if cfg!(feature = "plan") => {
+                self.blocked_remembering(&shadow, index, light)
+            }
             _ => any_hit_among(self.objects, &self.among, &shadow, index, S::ONE, z),
         }
     }

@@ -226,6 +226,7 @@ static PARSE_PEAK: AtomicUsize = AtomicUsize::new(0);
 /// the row buffer and the output's), so that the renderer's own share shows.
 static RENDER_BASE: AtomicUsize = AtomicUsize::new(0);
 
+#[inline(never)]
 fn report_frame(name: &str, suffix: &str, result: Result<(), &str>) {
     let render = stack::peak();
     let parse = PARSE_PEAK.load(Ordering::Relaxed);
@@ -255,6 +256,7 @@ fn report_frame(name: &str, suffix: &str, result: Result<(), &str>) {
 
 /// The RAM of the parts a render keeps on the stack, and of one slot of each of the
 /// scene's capacities, for the xtask's table.
+#[inline(never)]
 fn report_sizes() {
     use core::mem::size_of;
     use microray::{Light, Material, Object, Texture, shade::RowShading};
@@ -381,6 +383,7 @@ mod console {
     use cortex_m_semihosting::hio;
 
     /// Writes `parts` and a newline to the console.
+    #[inline(never)]
     pub fn line(parts: &[&str]) {
         for part in parts {
             write(part.as_bytes());
@@ -395,6 +398,7 @@ mod console {
     }
 
     /// `n` in decimal, in `digits`.
+    #[inline(never)]
     pub fn decimal(mut n: usize, digits: &mut [u8; 10]) -> &str {
         let mut start = digits.len();
         loop {

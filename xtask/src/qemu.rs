@@ -101,6 +101,8 @@ pub(crate) struct Row {
     pub(crate) vdiv: u64,
     pub(crate) vsqrt: u64,
     pub(crate) stack: u64,
+    /// The stack the renderer itself used (its frames below the harness's), if reported.
+    pub(crate) renderer_stack: u64,
     /// Flash and static RAM of the build that rendered it.
     pub(crate) size: Size,
 }
@@ -184,7 +186,7 @@ pub fn run(args: &[String]) -> Result<(), String> {
             conformance_dir(&root).as_deref(),
             &size,
         )?);
-        table.push_str(&ram_by_part(&root)?);
+        table.push_str(&ram_by_part(&root, &measurement.rows)?);
         if let Ok(levels) = std::fs::read_to_string(root.join("docs/opt-levels.md")) {
             table.push('\n');
             table.push_str(&levels);
@@ -201,8 +203,9 @@ pub fn run(args: &[String]) -> Result<(), String> {
 
 /// RAM by part for spec0 at 320x240 on both machines: the sizes the firmware reports
 /// (`microray size NAME BYTES`) and the peaks of its stack while parsing and rendering.
-fn ram_by_part(root: &Path) -> Result<String, String> {
+fn ram_by_part(root: &Path, all: &[Row]) -> Result<String, String> {
     let mut columns = Vec::new();
+    let mut deepest_scenes = Vec::new();
     for name in ["mps2-an386-f32", "microbit-fixed"] {
         let options = Options {
             only: "spec0".into(),
@@ -237,6 +240,15 @@ fn ram_by_part(root: &Path) -> Result<String, String> {
             }
         }
         values.insert("static".into(), spec0.size.ram);
+        // The deepest trace chain: the scene whose renderer went deepest at 160x120.
+        if let Some(deepest) = all
+            .iter()
+            .filter(|r| name == format!("{}-{}", r.machine, r.number))
+            .max_by_key(|r| r.renderer_stack)
+        {
+            values.insert("deepest".into(), deepest.renderer_stack);
+            deepest_scenes.push(format!("{} on {name}", deepest.scene));
+        }
         values.insert("total".into(), spec0.size.ram + spec0.stack);
         columns.push((name, values));
     }
@@ -260,7 +272,11 @@ fn ram_by_part(root: &Path) -> Result<String, String> {
         ),
         (
             "spec0 renderer",
-            "the renderer's own stack: row lists, row shading, the deepest trace chain",
+            "the renderer's own stack for spec0: row lists, row shading, its trace chain",
+        ),
+        (
+            "deepest",
+            "the renderer's own stack for the deepest trace chain of any scene (160x120)",
         ),
         ("spec0 parse", "peak stack while parsing spec0.txt"),
         ("spec0 render", "peak stack while rendering"),
@@ -286,6 +302,11 @@ fn ram_by_part(root: &Path) -> Result<String, String> {
         }
         out.push('\n');
     }
+    let _ = writeln!(
+        out,
+        "\nThe deepest trace chains: {} (mirrors and glass nest a `trace` frame a level).",
+        deepest_scenes.join(", ")
+    );
     Ok(out)
 }
 
@@ -755,9 +776,16 @@ fn compare(
     let mut rows = Vec::new();
     for line in console.lines() {
         let words: Vec<&str> = line.split_whitespace().collect();
-        let (name, stack) = match words.as_slice() {
-            ["microray", "scene", name, "stack", stack, ..] => {
-                (name.to_string(), stack.parse().unwrap_or(0))
+        let (name, stack, renderer_stack) = match words.as_slice() {
+            ["microray", "scene", name, "stack", stack, rest @ ..] => {
+                let renderer = rest
+                    .chunks(2)
+                    .find_map(|pair| match pair {
+                        ["renderer", value] => value.parse().ok(),
+                        _ => None,
+                    })
+                    .unwrap_or(0);
+                (name.to_string(), stack.parse().unwrap_or(0), renderer)
             }
             ["microray", "scene", name, "skipped", ..] => {
                 let why = line.split_once("skipped").map_or("", |(_, why)| why.trim());
@@ -804,6 +832,7 @@ fn compare(
             vdiv,
             vsqrt,
             stack,
+            renderer_stack,
             size: Size { flash: 0, ram: 0 },
         });
     }

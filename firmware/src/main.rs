@@ -12,6 +12,7 @@ mod basic_scene;
 #[cfg(feature = "full")]
 mod static_scene;
 
+use console::Part::{N, T};
 use core::ops::ControlFlow;
 use core::sync::atomic::{AtomicUsize, Ordering};
 use cortex_m_rt::entry;
@@ -155,10 +156,10 @@ impl RowFile {
     }
 }
 
-fn open(name: &str) -> usize {
+fn open(name: &[u8]) -> usize {
     let mut path = [0u8; 64];
     let len = name.len().min(58);
-    path[..len].copy_from_slice(&name.as_bytes()[..len]);
+    path[..len].copy_from_slice(&name[..len]);
     path[len..len + 4].copy_from_slice(b".rgb");
     // Mode 5 is "wb"; the length excludes the terminating NUL.
     unsafe { syscall!(OPEN, path.as_ptr(), 5, len + 4) }
@@ -190,8 +191,7 @@ fn render_frame(
     let len = name.len().min(40);
     file[..len].copy_from_slice(&name.as_bytes()[..len]);
     file[len..len + suffix.len()].copy_from_slice(suffix.as_bytes());
-    let name = core::str::from_utf8(&file[..len + suffix.len()]).map_err(|_| "name")?;
-    let handle = open(name);
+    let handle = open(&file[..len + suffix.len()]);
     if handle == usize::MAX {
         return Err("cannot open the output file");
     }
@@ -231,26 +231,27 @@ fn report_frame(name: &str, suffix: &str, result: Result<(), &str>) {
     let render = stack::peak();
     let parse = PARSE_PEAK.load(Ordering::Relaxed);
     PARSE_PEAK.store(0, Ordering::Relaxed);
-    let mut digits = [[0u8; 10]; 4];
-    let [both, parsing, rendering, base] = &mut digits;
     match result {
         Ok(()) => console::line(&[
-            "microray scene ",
-            name,
-            suffix,
-            " stack ",
-            console::decimal(render.max(parse), both),
-            " parse ",
-            console::decimal(parse, parsing),
-            " render ",
-            console::decimal(render, rendering),
-            " renderer ",
-            console::decimal(
-                render.saturating_sub(RENDER_BASE.load(Ordering::Relaxed)),
-                base,
-            ),
+            T("microray scene "),
+            T(name),
+            T(suffix),
+            T(" stack "),
+            N(render.max(parse)),
+            T(" parse "),
+            N(parse),
+            T(" render "),
+            N(render),
+            T(" renderer "),
+            N(render.saturating_sub(RENDER_BASE.load(Ordering::Relaxed))),
         ]),
-        Err(why) => console::line(&["microray scene ", name, suffix, " error ", why]),
+        Err(why) => console::line(&[
+            T("microray scene "),
+            T(name),
+            T(suffix),
+            T(" error "),
+            T(why),
+        ]),
     }
 }
 
@@ -271,15 +272,9 @@ fn report_sizes() {
         ("light", size_of::<Light<Number>>()),
         ("texture", size_of::<Texture<'static>>()),
     ];
-    console::line(&["microray sizes"]);
+    console::line(&[T("microray sizes")]);
     for (name, bytes) in sizes {
-        let mut digits = [0u8; 10];
-        console::line(&[
-            "microray size ",
-            name,
-            " ",
-            console::decimal(bytes, &mut digits),
-        ]);
+        console::line(&[T("microray size "), T(name), T(" "), N(bytes)]);
     }
 }
 
@@ -298,17 +293,16 @@ fn load_file(file: &scenes::SceneFile, scene: &mut FirmwareScene) -> Result<(), 
     parse_scene_into(file.text.as_bytes(), textures, scene).map_err(|e| {
         // Line and column only: the error's text needs the formatter, which the firmware
         // does not link (`microray render` on the host says the rest).
-        let (mut line, mut column) = ([0u8; 10], [0u8; 10]);
         let at = e
             .position
             .unwrap_or(microray::Position { line: 0, column: 0 });
         console::line(&[
-            "microray scene ",
-            file.name,
-            " load error at ",
-            console::decimal(at.line as usize, &mut line),
-            ":",
-            console::decimal(at.column as usize, &mut column),
+            T("microray scene "),
+            T(file.name),
+            T(" load error at "),
+            N(at.line as usize),
+            T(":"),
+            N(at.column as usize),
         ]);
         "scene does not load"
     })
@@ -369,7 +363,13 @@ fn main() -> ! {
     report(basic_scene::NAME, result);
     report_sizes();
     for (name, why) in SKIPPED {
-        console::line(&["microray scene ", name, " skipped (", why, ")"]);
+        console::line(&[
+            T("microray scene "),
+            T(name),
+            T(" skipped ("),
+            T(why),
+            T(")"),
+        ]);
     }
     debug::exit(debug::EXIT_SUCCESS);
     loop {
@@ -382,11 +382,25 @@ fn main() -> ! {
 mod console {
     use cortex_m_semihosting::hio;
 
+    /// A piece of a console line.
+    pub enum Part<'a> {
+        /// Text as it is.
+        T(&'a str),
+        /// A number, in decimal.
+        N(usize),
+    }
+
     /// Writes `parts` and a newline to the console.
     #[inline(never)]
-    pub fn line(parts: &[&str]) {
+    pub fn line(parts: &[Part<'_>]) {
         for part in parts {
-            write(part.as_bytes());
+            match part {
+                Part::T(text) => write(text.as_bytes()),
+                Part::N(n) => {
+                    let mut digits = [0u8; 10];
+                    write(decimal(*n, &mut digits));
+                }
+            }
         }
         write(b"\n");
     }
@@ -397,25 +411,41 @@ mod console {
         }
     }
 
-    /// `n` in decimal, in `digits`.
-    #[inline(never)]
-    pub fn decimal(mut n: usize, digits: &mut [u8; 10]) -> &str {
-        let mut start = digits.len();
-        loop {
-            start -= 1;
-            digits[start] = b'0' + (n % 10) as u8;
-            n /= 10;
-            if n == 0 || start == 0 {
-                break;
+    /// `n` in decimal, in `digits`: by subtracting powers of ten (the Cortex-M0 has no
+    /// divide instruction, and a division routine costs flash).
+    fn decimal(n: usize, digits: &mut [u8; 10]) -> &[u8] {
+        const POWERS: [u32; 10] = [
+            1_000_000_000,
+            100_000_000,
+            10_000_000,
+            1_000_000,
+            100_000,
+            10_000,
+            1_000,
+            100,
+            10,
+            1,
+        ];
+        let mut n = n as u32;
+        let mut len = 0;
+        for (i, power) in POWERS.into_iter().enumerate() {
+            let mut digit = 0u8;
+            while n >= power {
+                n -= power;
+                digit += 1;
+            }
+            if digit > 0 || len > 0 || i == POWERS.len() - 1 {
+                digits[len] = b'0' + digit;
+                len += 1;
             }
         }
-        core::str::from_utf8(&digits[start..]).unwrap_or("?")
+        &digits[..len]
     }
 
     /// A panic ends QEMU with a failure, without formatting the message.
     #[panic_handler]
     fn panic(_: &core::panic::PanicInfo) -> ! {
-        line(&["microray panic"]);
+        line(&[Part::T("microray panic")]);
         cortex_m_semihosting::debug::exit(cortex_m_semihosting::debug::EXIT_FAILURE);
         loop {
             cortex_m::asm::wfi();

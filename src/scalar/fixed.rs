@@ -409,22 +409,19 @@ impl Scalar for I16F16 {
         self == Self::MAX || self == Self::MIN
     }
 
-    #[inline]
+    /// Rounded to nearest, ties to even, saturated; NaN is 0. On the bits (see
+    /// [`q16_bits_of_f64`]): no floating-point arithmetic, which a Cortex-M has only in
+    /// software for `f64`. Out of line: scenes are loaded once, and every inlined copy
+    /// would cost flash.
+    #[inline(never)]
     fn from_f64(value: f64) -> Self {
-        // The crate panics on NaN; NaN never reaches here from a scene, but must not panic.
-        if value.is_nan() {
-            Self::ZERO
-        } else {
-            Self(Inner::saturating_from_num(value))
-        }
+        let bits = q16_bits_of_f64(value).unwrap_or(0);
+        Self::from_bits(bits.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32)
     }
-    #[inline]
+    #[inline(never)]
     fn from_f64_checked(value: f64) -> Option<Self> {
-        if value.is_nan() {
-            None
-        } else {
-            Inner::checked_from_num(value).map(Self)
-        }
+        let bits = q16_bits_of_f64(value)?;
+        i32::try_from(bits).ok().map(Self::from_bits)
     }
     #[inline]
     fn to_f64(self) -> f64 {
@@ -572,6 +569,47 @@ impl Scalar for I16F16 {
     }
 }
 
+/// `value * 2^16` rounded to the nearest integer, ties to even (what the `fixed` crate's
+/// conversion gives), from the bits of `value`; beyond ±2^62 it is kept at ±2^62 (far out
+/// of Q16.16's range either way). `None` for NaN.
+#[inline]
+fn q16_bits_of_f64(value: f64) -> Option<i64> {
+    let bits = value.to_bits();
+    let negative = bits >> 63 != 0;
+    let exponent = ((bits >> 52) & 0x7ff) as i32;
+    if exponent == 0x7ff && bits & ((1 << 52) - 1) != 0 {
+        return None;
+    }
+    // value = mantissa 2^(exponent - 1075); value 2^16 = mantissa 2^(exponent - 1059).
+    let mantissa = if exponent == 0 {
+        bits & ((1 << 52) - 1)
+    } else {
+        (bits & ((1 << 52) - 1)) | (1 << 52)
+    };
+    let shift = exponent.max(1) - 1059;
+    let magnitude: u64 = if shift >= 10 {
+        // 2^62 or more (infinities included).
+        1 << 62
+    } else if shift >= 0 {
+        mantissa << shift
+    } else if shift > -64 {
+        let down = shift.unsigned_abs();
+        let whole = mantissa >> down;
+        let rest = mantissa & ((1u64 << down) - 1);
+        let half = 1u64 << (down - 1);
+        // Round half to even.
+        if rest > half || (rest == half && whole & 1 == 1) {
+            whole + 1
+        } else {
+            whole
+        }
+    } else {
+        0
+    };
+    let magnitude = magnitude as i64;
+    Some(if negative { -magnitude } else { magnitude })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -579,6 +617,73 @@ mod tests {
 
     fn fx(v: f64) -> I16F16 {
         I16F16::from_f64(v)
+    }
+
+    /// The conversion on the bits equals the `fixed` crate's (round to nearest, ties to
+    /// even, saturating or checked), at ties, at the ends of the range and anywhere.
+    #[test]
+    fn conversion_from_f64_matches_the_fixed_crate() {
+        let check = |v: f64| {
+            let ours = I16F16::from_f64(v);
+            let theirs = if v.is_nan() {
+                I16F16::ZERO
+            } else {
+                I16F16(Inner::saturating_from_num(v))
+            };
+            assert_eq!(ours, theirs, "{v:e}");
+            let checked = if v.is_nan() {
+                None
+            } else {
+                Inner::checked_from_num(v).map(I16F16)
+            };
+            assert_eq!(I16F16::from_f64_checked(v), checked, "{v:e}");
+        };
+        let step = 1.0 / 65536.0;
+        for k in -70000i64..70000 {
+            // Whole steps, and exact ties between steps (even and odd below).
+            let at = k as f64 * step * 7.0;
+            check(at);
+            check(at + step / 2.0);
+            check(at - step / 2.0);
+            check(f64::from_bits(at.to_bits() + 1));
+        }
+        for v in [
+            0.0,
+            -0.0,
+            32_767.999_992_370_605,
+            32_767.999_996_185_3,
+            32768.0,
+            -32768.0,
+            -32_768.000_007_629_4,
+            -32_768.000_003_814_7,
+            1e300,
+            -1e300,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            f64::MIN_POSITIVE,
+            5e-324,
+            -5e-324,
+            1.5 * step,
+            2.5 * step,
+            -2.5 * step,
+        ] {
+            check(v);
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn conversion_from_any_f64_matches_the_fixed_crate(bits: u64) {
+            let v = f64::from_bits(bits);
+            let theirs = if v.is_nan() { I16F16::ZERO } else { I16F16(Inner::saturating_from_num(v)) };
+            prop_assert_eq!(I16F16::from_f64(v), theirs);
+            let scaled = v / 1e300 * 4e4;
+            if !scaled.is_nan() {
+                prop_assert_eq!(I16F16::from_f64(scaled), I16F16(Inner::saturating_from_num(scaled)));
+                prop_assert_eq!(I16F16::from_f64_checked(scaled), Inner::checked_from_num(scaled).map(I16F16));
+            }
+        }
     }
 
     #[test]

@@ -85,13 +85,14 @@ fn main() {
             writeln!(skipped, "    ({name:?}, {why:?}),").unwrap();
             continue;
         }
-        let count = object_count(&text);
+        let needs = Capacity::of(&text);
+        let count = needs.objects;
         if count > objects {
             let why = format!("its {count} objects do not fit this machine's RAM ({objects})");
             writeln!(skipped, "    ({name:?}, {why:?}),").unwrap();
             continue;
         }
-        capacity = capacity.max(&Capacity::of(&text));
+        capacity = capacity.max(&needs);
         println!("cargo:rerun-if-changed={}", path.display());
         write!(
             table,
@@ -187,20 +188,10 @@ fn block_count(text: &str, keywords: &[&str]) -> usize {
 
 /// How many objects a scene defines: its blocks opened by an object keyword.
 fn object_count(text: &str) -> usize {
-    let words: Vec<&str> = text
-        .lines()
-        .map(|l| l.split('#').next().unwrap_or(""))
-        .flat_map(str::split_whitespace)
-        .collect();
-    words
-        .windows(3)
-        .filter(|w| {
-            matches!(
-                w[0],
-                "plane" | "sphere" | "fplane" | "tiled_plane" | "texplane"
-            ) && w[2].starts_with('{')
-        })
-        .count()
+    block_count(
+        text,
+        &["plane", "sphere", "fplane", "tiled_plane", "texplane"],
+    )
 }
 
 /// The `filename` values of a scene and the files they name.

@@ -164,7 +164,7 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
             shader: Shader::new(scene.objects(), scene.lights(), scene.palette()),
             plan,
             bvh,
-            planned: cfg!(feature = "plan"),
+            planned: true,
             shading: Shading::Color,
         }
     }
@@ -179,10 +179,7 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
     /// either way; without a plan is the reference the plan is tested against. A build
     /// without the `plan` feature has no plan to switch on.
     pub fn with_plan(self, planned: bool) -> Self {
-        Self {
-            planned: planned && cfg!(feature = "plan"),
-            ..self
-        }
+        Self { planned, ..self }
     }
 
     /// The bounding-volume hierarchy of the plan's objects (empty below
@@ -196,9 +193,16 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
         &self.plan
     }
 
+    /// Whether the plan is used: switched on, and compiled in (the `cfg!` lets the compiler
+    /// leave out everything planned rendering needs when it is not).
+    #[inline]
+    fn planned(&self) -> bool {
+        cfg!(feature = "plan") && self.planned
+    }
+
     /// The shader with the plan's stages and objects, or everything without a plan.
     fn shader(&self) -> Shader<'_, S> {
-        if cfg!(feature = "plan") && self.planned {
+        if self.planned() {
             let plan = &self.plan;
             let among = match self.bvh.tree() {
                 Some(tree) => Among::Tree(tree),
@@ -213,7 +217,7 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
     /// The objects primary rays of `row` (0 the top) can hit, by index; `None` means all.
     fn row_objects(&self, row: u16) -> Option<heapless::Vec<u16, OBJECTS>> {
         let y = self.camera.height().saturating_sub(1).saturating_sub(row);
-        (cfg!(feature = "plan") && self.planned).then(|| self.plan.objects_in_row(y))
+        self.planned().then(|| self.plan.objects_in_row(y))
     }
 
     /// The image size in pixels.
@@ -302,7 +306,7 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
         camera_y: u16,
         rays: &RowRays<S>,
     ) -> Option<heapless::Vec<RowEntry<S>, OBJECTS>> {
-        if !(cfg!(feature = "plan") && self.planned) {
+        if !self.planned() {
             return None;
         }
         let origin = rays.origin(self.shader.z_limit());
@@ -332,11 +336,22 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
         let camera_y = self.camera.height().saturating_sub(1).saturating_sub(row);
         let rays = self.camera.row_rays(camera_y, 0);
         let shader = self.shader();
-        self.row_tests(camera_y, &rays).is_some_and(|tests| {
-            shader
-                .row_shading(&tests, &rays.origin(self.shader.z_limit()))
-                .is_some()
-        })
+        self.row_tests(camera_y, &rays)
+            .is_some_and(|tests| self.row_shading(&shader, &tests, &rays).is_some())
+    }
+
+    /// The shading of a row whose tests are prepared, when its pixels are shaded together
+    /// (colours only: the object-id view shades each pixel alone).
+    fn row_shading<'r>(
+        &self,
+        shader: &Shader<'r, S>,
+        tests: &[RowEntry<S>],
+        rays: &RowRays<S>,
+    ) -> Option<RowShading<'r, S>> {
+        match self.shading {
+            Shading::Color => shader.row_shading(tests, &rays.origin(self.shader.z_limit())),
+            Shading::Ids => None,
+        }
     }
 
     /// Renders `area` (clipped to the image) into `target` at the same coordinates, one
@@ -372,13 +387,7 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
             let rays = self.camera.row_rays(camera_y, left);
             match self.row_tests(camera_y, &rays) {
                 Some(tests) => {
-                    let shading = match self.shading {
-                        Shading::Color => {
-                            shader.row_shading(&tests, &rays.origin(self.shader.z_limit()))
-                        }
-                        Shading::Ids => None,
-                    };
-                    match shading {
+                    match self.row_shading(&shader, &tests, &rays) {
                         // A plane at the same `t` for every ray of the row.
                         Some(shading) => shade_row(&shader, &shading, &tests, rays, row),
                         None => {

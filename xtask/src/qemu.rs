@@ -201,24 +201,31 @@ pub fn run(args: &[String]) -> Result<(), String> {
     measurement.check()
 }
 
+/// spec0 at 320x240 in the firmware with the parser and spec0 only, on one build (`name`,
+/// as `--build` takes it), at an optimisation level or the profile's; its frame checked.
+fn measure_spec0(root: &Path, name: &str, opt_level: Option<&str>) -> Result<Row, String> {
+    let options = Options {
+        only: "spec0".into(),
+        build: Some(name.into()),
+        opt_level: opt_level.map(str::to_string),
+        ..Options::default()
+    };
+    let measured = measure(root, 320, 240, &options)?;
+    measured.check()?;
+    measured
+        .rows
+        .into_iter()
+        .find(|r| r.scene == "spec0")
+        .ok_or_else(|| "spec0 was not rendered".to_string())
+}
+
 /// RAM by part for spec0 at 320x240 on both machines: the sizes the firmware reports
 /// (`microray size NAME BYTES`) and the peaks of its stack while parsing and rendering.
 fn ram_by_part(root: &Path, all: &[Row]) -> Result<String, String> {
     let mut columns = Vec::new();
     let mut deepest_scenes = Vec::new();
     for name in ["mps2-an386-f32", "microbit-fixed"] {
-        let options = Options {
-            only: "spec0".into(),
-            build: Some(name.into()),
-            ..Options::default()
-        };
-        let measured = measure(root, 320, 240, &options)?;
-        measured.check()?;
-        let spec0 = measured
-            .rows
-            .iter()
-            .find(|r| r.scene == "spec0")
-            .ok_or("spec0 was not rendered")?;
+        let spec0 = measure_spec0(root, name, None)?;
         let console =
             std::fs::read_to_string(root.join("target/qemu").join(name).join("console.txt"))
                 .map_err(|e| e.to_string())?;
@@ -341,19 +348,7 @@ fn opt_levels() -> Result<(), String> {
             };
             let elf = build_firmware(&root, build, conformance.as_deref(), "320x240", &minimal)?;
             let minimal_flash = inspect(&elf)?.1.flash;
-            let options = Options {
-                only: "spec0".into(),
-                build: Some(build_name.into()),
-                opt_level: Some(level.into()),
-                ..Options::default()
-            };
-            let measured = measure(&root, 320, 240, &options)?;
-            measured.check()?;
-            let spec0 = measured
-                .rows
-                .iter()
-                .find(|r| r.scene == "spec0")
-                .ok_or("spec0 was not rendered")?;
+            let spec0 = measure_spec0(&root, build_name, Some(level))?;
             let _ = write!(
                 out,
                 " {minimal_flash} | {} | {:.0} |",

@@ -1,6 +1,12 @@
 //! Chooses the machine's memory layout and embeds the scenes (course scenes from
 //! `MICRORAY_CONFORMANCE`, default `../../shared/conformance`, and the project's own) with
-//! their textures, as `include_str!`/`include_bytes!` of their files.
+//! their textures, as `include_str!`/`include_bytes!` of their files; compiles the `basic`
+//! scene in source for the firmware's number type and image size (`basic.mray`).
+
+// The scene's definitions; its name is the firmware's business.
+#[allow(dead_code)]
+#[path = "src/basic_scene.rs"]
+mod basic_scene;
 
 use std::env;
 use std::fmt::Write as _;
@@ -42,6 +48,15 @@ fn main() {
     let (width, height) = size
         .split_once('x')
         .expect("MICRORAY_FW_SIZE is WIDTHxHEIGHT");
+
+    let (width, height): (u16, u16) = (width.parse().unwrap(), height.parse().unwrap());
+    println!("cargo:rerun-if-changed=src/basic_scene.rs");
+    let basic = if env::var_os("CARGO_FEATURE_FIXED").is_some() {
+        compile_basic::<microray::scalar::I16F16>(width, height)
+    } else {
+        compile_basic::<f32>(width, height)
+    };
+    fs::write(out.join("basic.mray"), basic).unwrap();
 
     let conformance = env::var_os("MICRORAY_CONFORMANCE")
         .map(PathBuf::from)
@@ -126,6 +141,17 @@ fn main() {
          {table}{skipped}"
     );
     fs::write(out.join("scenes.rs"), generated).unwrap();
+}
+
+/// The `basic` scene loaded as the firmware would load it, at the firmware's image size,
+/// as a compiled scene.
+fn compile_basic<S: microray::Scalar>(width: u16, height: u16) -> Vec<u8> {
+    let mut scene: Box<microray::Scene<'static, S>> = Box::new(microray::Scene::empty());
+    basic_scene::load(&mut scene).unwrap();
+    scene.set_resolution(width, height).unwrap();
+    let mut bytes = Vec::new();
+    scene.write_compiled(&mut |piece| bytes.extend_from_slice(piece));
+    bytes
 }
 
 fn collect(dir: &Path, files: &mut Vec<PathBuf>) {

@@ -1,5 +1,6 @@
 //! The one error type: what went wrong, and where in the scene text.
 
+pub use crate::compiled::CompiledError;
 use core::fmt;
 
 /// A line and column in scene text, both counted from 1. Columns count characters.
@@ -687,6 +688,13 @@ pub enum ErrorKind {
         /// What is wrong.
         error: TextureError,
     },
+    /// A compiled scene ([`crate::compiled`]) is malformed.
+    Compiled {
+        /// The byte where the problem starts.
+        offset: u32,
+        /// What is wrong.
+        problem: CompiledError,
+    },
 }
 
 impl ErrorKind {
@@ -895,6 +903,27 @@ impl fmt::Display for ErrorKind {
                 write!(f, "too many {what}: this build holds {capacity}")
             }
             ErrorKind::Texture { file, error } => write!(f, "texture file {file}: {error}"),
+            ErrorKind::Compiled { offset, problem } => {
+                write!(f, "compiled scene, byte {offset}: {problem}")
+            }
+        }
+    }
+}
+
+impl fmt::Display for CompiledError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            CompiledError::NotCompiled => {
+                f.write_str("not a compiled scene of this version (`microray compile` writes one)")
+            }
+            CompiledError::OtherNumberType { found } => write!(
+                f,
+                "compiled for another number type (code {found}; 1 f64, 2 f32, 3 i16f16)"
+            ),
+            CompiledError::Truncated => f.write_str("ends early"),
+            CompiledError::BadValue => f.write_str("no such object kind, flag, axis or mode"),
+            CompiledError::BadIndex => f.write_str("index past the end of its list"),
+            CompiledError::Trailing => f.write_str("bytes after the last object"),
         }
     }
 }

@@ -80,6 +80,7 @@
 
 pub mod bvh;
 pub mod camera;
+pub mod compiled;
 #[cfg(any(feature = "parser", feature = "print"))]
 pub mod decimal;
 pub mod error;

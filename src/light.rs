@@ -75,7 +75,7 @@ pub struct Spot<S> {
 /// A checked light.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Light<S> {
-    name: Name,
+    pub(crate) name: Name,
     /// Where it is.
     pub location: Vec3<S>,
     /// What it emits, times the scene's scale: the glint term.

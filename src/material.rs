@@ -71,7 +71,7 @@ impl<'a> MaterialDef<'a> {
 /// A checked material, with the transmission filter precomputed.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material<S> {
-    name: Name,
+    pub(crate) name: Name,
     /// Ambient reflectivity.
     pub ambient: Vec3<S>,
     /// Diffuse reflectivity.

@@ -5,13 +5,15 @@
 //! an [`ErrorKind::CapacityExceeded`], never a panic.
 
 use crate::camera::{Camera, CameraDef};
-use crate::error::{Collection, Entity, Error, ErrorKind, Feature, Snippet};
+use crate::compiled;
+use crate::error::{Collection, Entity, Error, ErrorKind, Feature, Snippet, TextureError};
 use crate::light::{Light, LightDef};
 use crate::material::{Material, MaterialDef, MaterialId};
 use crate::object::{Hit, Object, ObjectDef, Palette, Z_LIMIT, closest_hit};
 use crate::range::Extent;
 use crate::ray::Ray;
 use crate::scalar::Scalar;
+use crate::shade::MAX_DISTANCE;
 use crate::texture::{Texture, TextureDef};
 use heapless::Vec;
 
@@ -28,6 +30,26 @@ pub(crate) enum Item<'i> {
         filename: &'i str,
     },
     Object(ObjectDef<'i>),
+}
+
+/// Lengths the tracer compares with, in the number type at the scene's scale (converted
+/// once, when the scale is set: a compiled scene carries them, so firmware converts none).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits<S> {
+    /// Hit points with `z` above this are in front of the image plane (0.01, scaled).
+    pub z: S,
+    /// Rays stop once the distance travelled from the eye exceeds this ([`MAX_DISTANCE`],
+    /// scaled).
+    pub distance: S,
+}
+
+impl<S: Scalar> Limits<S> {
+    pub(crate) fn at_scale(scale: f64) -> Self {
+        Self {
+            z: S::from_f64(Z_LIMIT * scale),
+            distance: S::from_f64(MAX_DISTANCE * scale),
+        }
+    }
 }
 
 /// The default widest image: the renderer keeps one row of this many pixels.
@@ -104,6 +126,17 @@ pub struct Scene<
     textures: Vec<Texture<'t>, TEXTURES>,
     objects: Vec<Object<S>, OBJECTS>,
     scale: f64,
+    /// The limits in `S`, set with the scale (`None`: scale 1, not yet converted).
+    limits: Option<Limits<S>>,
+}
+
+/// Adds to a bounded list, or says which list is full.
+fn push<T, const N: usize>(
+    list: &mut Vec<T, N>,
+    item: T,
+    what: Collection,
+) -> Result<(), ErrorKind> {
+    list.push(item).map_err(|_| capacity_error(what, N))
 }
 
 fn capacity_error(what: Collection, capacity: usize) -> ErrorKind {
@@ -143,18 +176,25 @@ impl<
             textures: Vec::new(),
             objects: Vec::new(),
             scale: 1.0,
+            limits: None,
         }
     }
 
     /// Empties the scene and sets the scale for what is added next; the camera becomes the
     /// stand-in until [`set_camera`](Self::set_camera).
     pub(crate) fn clear(&mut self, scale: f64) {
+        self.clear_lists();
+        self.scale = scale;
+        self.limits = Some(Limits::at_scale(scale));
+    }
+
+    /// Empties the scene, keeping the scale.
+    fn clear_lists(&mut self) {
         self.camera = Camera::PLACEHOLDER;
         self.materials.clear();
         self.lights.clear();
         self.textures.clear();
         self.objects.clear();
-        self.scale = scale;
     }
 
     /// Replaces the camera.
@@ -301,6 +341,99 @@ impl<
         Ok(())
     }
 
+    /// Writes the scene as a compiled scene ([`crate::compiled`]): its values as loaded,
+    /// bit for bit, for [`load_compiled`](Self::load_compiled) on a machine that has neither
+    /// the parser nor fast `f64`. The bytes go to `sink` in pieces.
+    ///
+    /// ```
+    /// use microray::{parse::{no_textures, parse_scene_into}, Scene};
+    ///
+    /// let text = b"camera c { pixeldim 64 48 worlddim 8 6 viewpoint 4 3 4 }
+    ///              material red { diffuse 4 0 0 }
+    ///              sphere ball { material red center 4 3 -6 radius 2 }";
+    /// let mut scene: Scene<f32, 4, 2, 1, 0, 64> = Scene::empty();
+    /// parse_scene_into(text, no_textures, &mut scene)?;
+    /// let mut bytes = Vec::new();
+    /// scene.write_compiled(&mut |piece| bytes.extend_from_slice(piece));
+    ///
+    /// // On the microcontroller: no parser, no f64, the same scene.
+    /// let mut loaded: Scene<f32, 4, 2, 1, 0, 64> = Scene::empty();
+    /// loaded.load_compiled(&bytes, no_textures)?;
+    /// assert_eq!(loaded, scene);
+    /// # Ok::<(), microray::Error>(())
+    /// ```
+    pub fn write_compiled(&self, sink: &mut dyn FnMut(&[u8])) {
+        let mut out = compiled::Writer::new(sink);
+        compiled::write_header::<S>(&mut out, self.scale);
+        out.number(self.limits().z);
+        out.number(self.limits().distance);
+        compiled::write_camera(&mut out, &self.camera);
+        out.count(self.materials.len());
+        for material in &self.materials {
+            compiled::write_material(&mut out, material);
+        }
+        out.count(self.textures.len());
+        for texture in &self.textures {
+            out.text(texture.name());
+            out.text(texture.filename());
+        }
+        out.count(self.lights.len());
+        for light in &self.lights {
+            compiled::write_light(&mut out, light);
+        }
+        out.count(self.objects.len());
+        for object in &self.objects {
+            compiled::write_object(&mut out, object);
+        }
+    }
+
+    /// Loads a compiled scene into this scene, emptied first. `textures` finds each
+    /// texture's PPM bytes by file name, as for the parser. The bytes are checked as they
+    /// are read (see [`crate::compiled`]); no `f64` arithmetic is done.
+    pub fn load_compiled(
+        &mut self,
+        bytes: &[u8],
+        mut textures: impl FnMut(&str) -> Result<&'t [u8], TextureError>,
+    ) -> Result<(), Error> {
+        let mut input = compiled::Reader::new(bytes);
+        let scale = input.header::<S>()?;
+        let limits = Limits {
+            z: input.number()?,
+            distance: input.number()?,
+        };
+        self.clear_lists();
+        self.scale = scale;
+        self.limits = Some(limits);
+        self.camera = compiled::read_camera(&mut input, MAX_WIDTH)?;
+        for _ in 0..input.u16()? {
+            let material = compiled::read_material(&mut input)?;
+            push(&mut self.materials, material, Collection::Materials)?;
+        }
+        for _ in 0..input.u16()? {
+            let (name, filename) = (input.text()?, input.text()?);
+            let ppm = textures(filename).map_err(|error| ErrorKind::Texture {
+                file: Snippet::new(filename.as_bytes()),
+                error,
+            })?;
+            self.add_texture(&TextureDef {
+                name,
+                filename,
+                ppm,
+            })?;
+        }
+        for _ in 0..input.u16()? {
+            let light = compiled::read_light(&mut input)?;
+            push(&mut self.lights, light, Collection::Lights)?;
+        }
+        for _ in 0..input.u16()? {
+            let object =
+                compiled::read_object(&mut input, self.materials.len(), self.textures.len())?;
+            push(&mut self.objects, object, Collection::Objects)?;
+        }
+        input.finish()?;
+        Ok(())
+    }
+
     /// Renders the same picture at another resolution: the camera's `pixeldim` becomes
     /// `width` by `height`, its world window stays. Errors as for `pixeldim` in a file.
     pub fn set_resolution(&mut self, width: u16, height: u16) -> Result<(), ErrorKind> {
@@ -336,6 +469,7 @@ impl<
             textures: &self.textures,
             camera: &self.camera,
             scale: self.scale,
+            limits: self.limits(),
         }
     }
 
@@ -347,7 +481,12 @@ impl<
 
     /// Hit points with `z` above this are in front of the image plane (0.01, scaled).
     pub fn z_limit(&self) -> S {
-        S::from_f64(Z_LIMIT * self.scale)
+        self.limits().z
+    }
+
+    /// The lengths shading compares with, at the scene's scale.
+    pub fn limits(&self) -> Limits<S> {
+        self.limits.unwrap_or_else(|| Limits::at_scale(1.0))
     }
 
     /// The nearest hit with `t > 0` over all objects, skipping object `skip` (the one the

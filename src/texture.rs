@@ -89,6 +89,12 @@ impl<'t> Texture<'t> {
     }
 }
 
+/// A texture resolver for scenes without textures (for the parser and compiled scenes):
+/// every file is "not found".
+pub fn no_textures<'t>(_filename: &str) -> Result<&'t [u8], TextureError> {
+    Err(TextureError::NotFound)
+}
+
 /// Reads a P6 header and returns width, height and the pixel bytes (borrowed).
 pub fn decode_ppm(bytes: &[u8]) -> Result<(u16, u16, &[u8]), TextureError> {
     let rest = bytes

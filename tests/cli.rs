@@ -120,3 +120,50 @@ fn check_reports_the_plan_and_no_plan_renders_the_same_image() {
     assert!(a == b, "--no-plan renders another image");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn compile_writes_the_scene_at_the_size_asked_for() {
+    use microray::Scene;
+    use microray::parse::{no_textures, parse_scene};
+    use microray::scalar::I16F16;
+    let dir = std::env::temp_dir().join(format!("microray-compile-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("minimal.mray");
+    let scene_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/minimal.txt");
+    let run = microray(&[
+        "compile",
+        scene_path.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--number",
+        "i16f16",
+        "--size",
+        "80x60",
+    ]);
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let bytes = std::fs::read(&out).unwrap();
+    let mut expected: microray::host::HostScene<'_, I16F16> =
+        parse_scene(&std::fs::read(&scene_path).unwrap(), no_textures).unwrap();
+    expected.set_resolution(80, 60).unwrap();
+    let mut loaded: Box<microray::host::HostScene<'_, I16F16>> = Box::new(Scene::empty());
+    loaded.load_compiled(&bytes, no_textures).unwrap();
+    assert_eq!(*loaded, expected);
+    // A size that is not WIDTHxHEIGHT is a usage error.
+    let bad = microray(&[
+        "compile",
+        scene_path.to_str().unwrap(),
+        "-o",
+        "x",
+        "--number",
+        "f32",
+        "--size",
+        "80",
+    ]);
+    assert!(!bad.status.success());
+    assert!(
+        text(&bad.stderr).contains("WIDTHxHEIGHT"),
+        "{}",
+        text(&bad.stderr)
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

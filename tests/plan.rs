@@ -6,12 +6,11 @@
 mod common;
 
 use microray::Scalar;
-use microray::host::{Framebuffer, HostRenderer, HostScene, texture_files};
+use microray::host::{HostRenderer, HostScene, texture_files};
 use microray::parse::parse_scene;
 use microray::plan::Stages;
 use microray::render::{Renderer, Shading};
 use microray::scalar::I16F16;
-use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 
 fn scenes() -> Vec<PathBuf> {
@@ -31,17 +30,7 @@ fn load<S: Scalar>(path: &Path) -> HostScene<'static, S> {
         .unwrap_or_else(|e| panic!("{} in {}: {e}", path.display(), S::NAME))
 }
 
-/// The render through rows (`render_area`, where rows are shaded together).
-fn image<S: Scalar, const OBJECTS: usize>(renderer: &Renderer<'_, S, OBJECTS>) -> Framebuffer {
-    let size = renderer.size();
-    let mut image = Framebuffer::new(size);
-    let mut row = vec![Default::default(); size.width as usize];
-    let all = embedded_graphics::primitives::Rectangle::new(Default::default(), size);
-    renderer
-        .render_area(&mut image, all, &mut row, |_| ControlFlow::Continue(()))
-        .unwrap();
-    image
-}
+use common::image;
 
 /// What a scene's plan skips, summed over the scenes of one run.
 #[derive(Default, Debug)]

@@ -1,9 +1,11 @@
 //! The smallest scene in Rust source: planes and spheres, ambient and diffuse light, point
 //! lights. It needs none of microray's optional features, so it is the scene of the minimal
-//! firmware build (`--no-default-features`). Shared with the host side of `cargo xtask
-//! qemu`, which renders it to compare.
+//! firmware build (`--no-default-features`): build.rs compiles it (`Scene::write_compiled`)
+//! and the minimal build loads that (`Scene::load_compiled`), with neither the loader's f64
+//! arithmetic nor the parser; the full build loads these definitions. The host side of
+//! `cargo xtask qemu` renders it from the definitions to compare.
 
-use microray::{CameraDef, LightDef, MaterialDef, ObjectDef};
+use microray::{CameraDef, Error, LightDef, MaterialDef, ObjectDef, Scalar, Scene};
 
 pub const NAME: &str = "basic";
 
@@ -33,3 +35,17 @@ pub const OBJECTS: [ObjectDef<'static>; 4] = [
     ObjectDef::sphere("big", "clay", [4.5, 1.5, -6.0], 1.5),
     ObjectDef::sphere("small", "clay", [2.0, 0.7, -4.5], 0.7),
 ];
+
+/// Loads the scene from these definitions (the full build, and build.rs for the minimal).
+pub fn load<
+    S: Scalar,
+    const O: usize,
+    const M: usize,
+    const L: usize,
+    const T: usize,
+    const W: usize,
+>(
+    scene: &mut Scene<'static, S, O, M, L, T, W>,
+) -> Result<(), Error> {
+    scene.load_defs(&CAMERA, &MATERIALS, &[], &LIGHTS, &OBJECTS)
+}

@@ -8,6 +8,8 @@
 #![no_std]
 #![no_main]
 
+// The minimal build loads it compiled by build.rs, and uses only its name.
+#[cfg_attr(not(feature = "full"), allow(dead_code))]
 mod basic_scene;
 #[cfg(feature = "full")]
 mod static_scene;
@@ -27,6 +29,8 @@ use microray::error::TextureError;
 #[cfg(feature = "full")]
 use microray::parse::parse_scene_into;
 use microray::render::Renderer;
+#[cfg(not(feature = "full"))]
+use microray::texture::no_textures;
 
 #[cfg(feature = "f32")]
 type Number = f32;
@@ -166,11 +170,18 @@ fn open(name: &[u8]) -> usize {
 }
 
 /// Renders a scene into `<name>.rgb`, and with `MICRORAY_FW_PLAN=compare` a second time
-/// without the render plan into `<name>+noplan.rgb`.
+/// without the render plan into `<name>+noplan.rgb`. (The minimal build's one scene is
+/// compiled at the firmware's size: it renders with [`render_scene`].)
+#[cfg(feature = "full")]
 fn render_to_file(name: &str, scene: &mut FirmwareScene) -> Result<(), &'static str> {
     scene
         .set_resolution(WIDTH, HEIGHT)
         .map_err(|_| "resolution")?;
+    render_scene(name, scene)
+}
+
+/// [`render_to_file`] for a scene already at `WIDTH` x `HEIGHT`.
+fn render_scene(name: &str, scene: &FirmwareScene) -> Result<(), &'static str> {
     render_frame(name, "", scene, true)?;
     if COMPARE_PLAN {
         report_frame(name, "", Ok(()));
@@ -324,18 +335,28 @@ fn run_static(scene: &mut FirmwareScene) -> Result<(), &'static str> {
     render_to_file(static_scene::NAME, scene)
 }
 
-/// Builds and renders the scene written in Rust source that needs no optional feature.
+/// The scene written in Rust source that needs no optional feature, compiled by build.rs
+/// for this number type and image size.
+#[cfg(not(feature = "full"))]
+static BASIC: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/basic.mray"));
+
+/// Loads and renders the compiled `basic` scene: no parser, no f64 arithmetic, and no
+/// change of resolution (it was compiled at the firmware's). The minimal build's way.
+#[cfg(not(feature = "full"))]
 #[inline(never)]
 fn run_basic(scene: &mut FirmwareScene) -> Result<(), &'static str> {
     scene
-        .load_defs(
-            &basic_scene::CAMERA,
-            &basic_scene::MATERIALS,
-            &[],
-            &basic_scene::LIGHTS,
-            &basic_scene::OBJECTS,
-        )
+        .load_compiled(BASIC, no_textures)
         .map_err(|_| "basic scene does not load")?;
+    render_scene(basic_scene::NAME, scene)
+}
+
+/// Builds and renders the `basic` scene from its definitions (the full build has the f64
+/// loader anyway, for scene files: a second way to load would only cost flash).
+#[cfg(feature = "full")]
+#[inline(never)]
+fn run_basic(scene: &mut FirmwareScene) -> Result<(), &'static str> {
+    basic_scene::load(scene).map_err(|_| "basic scene does not load")?;
     render_to_file(basic_scene::NAME, scene)
 }
 

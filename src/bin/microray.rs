@@ -36,6 +36,21 @@ enum Command {
         /// The scene file.
         scene: PathBuf,
     },
+    /// Compile a scene for firmware: its values as loaded in one number type, bit for bit,
+    /// which `Scene::load_compiled` reads without the parser and without f64 arithmetic.
+    Compile {
+        /// The scene file.
+        scene: PathBuf,
+        /// The compiled scene to write.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// The number type the firmware computes in.
+        #[arg(long, value_enum)]
+        number: Number,
+        /// The image size, WIDTHxHEIGHT, if not the scene's `pixeldim`.
+        #[arg(long, value_parser = parse_size)]
+        size: Option<(u16, u16)>,
+    },
     /// Render a scene to a binary PPM (`.ppm`) or PNG (`.png`) image.
     Render {
         /// The scene file.
@@ -83,6 +98,16 @@ fn main() -> ExitCode {
             print!("{text}");
             Ok(())
         }),
+        Command::Compile {
+            scene,
+            output,
+            number,
+            size,
+        } => match number {
+            Number::F64 => compile::<f64>(scene, output, *size),
+            Number::F32 => compile::<f32>(scene, output, *size),
+            Number::I16f16 => compile::<I16F16>(scene, output, *size),
+        },
         Command::Render {
             scene,
             output,
@@ -199,6 +224,35 @@ fn load<S: Scalar>(path: &Path) -> Result<HostScene<'static, S>, String> {
         ),
         None => format!("{}: error: {}", path.display(), e.kind),
     })
+}
+
+fn parse_size(text: &str) -> Result<(u16, u16), String> {
+    let (w, h) = text
+        .split_once('x')
+        .ok_or_else(|| format!("expected WIDTHxHEIGHT, found `{text}`"))?;
+    let number = |v: &str| v.parse::<u16>().map_err(|e| format!("`{v}`: {e}"));
+    Ok((number(w)?, number(h)?))
+}
+
+fn compile<S: Scalar>(path: &Path, output: &Path, size: Option<(u16, u16)>) -> Result<(), String> {
+    let mut scene = load::<S>(path)?;
+    if let Some((width, height)) = size {
+        scene
+            .set_resolution(width, height)
+            .map_err(|e| format!("{}: error: --size: {e}", path.display()))?;
+    }
+    let mut bytes = Vec::new();
+    scene.write_compiled(&mut |piece| bytes.extend_from_slice(piece));
+    std::fs::write(output, &bytes)
+        .map_err(|e| format!("{}: error: cannot write: {e}", output.display()))?;
+    eprintln!(
+        "{}: {} bytes ({}) -> {}",
+        path.display(),
+        bytes.len(),
+        S::NAME,
+        output.display()
+    );
+    Ok(())
 }
 
 enum Format {

@@ -58,6 +58,8 @@ pub struct Palette<'s, S> {
     /// The factor the scene's lengths were multiplied by at load (a power of two; 1 unless
     /// the scene was too large for the number type).
     pub scale: f64,
+    /// The scene's limits at that scale.
+    pub limits: crate::scene::Limits<S>,
 }
 
 impl<'s, S: Scalar> Palette<'s, S> {

@@ -187,7 +187,15 @@ pub fn plane_init<S: Scalar>(
     def: &PlaneDef,
     scale: f64,
 ) -> Result<Object<S>, ErrorKind> {
-    let plane = Plane::build(def, scale)?;
+    plane_object(name, material, Plane::build(def, scale)?)
+}
+
+/// A plane object with the table that fits it (one of the axis tables, or the general one).
+pub(crate) fn plane_object<S: Scalar>(
+    name: &str,
+    material: MaterialId,
+    plane: Plane<S>,
+) -> Result<Object<S>, ErrorKind> {
     let tables: &'static [ObjectVTable<S>; 6] = &Plane::AXIS_VTABLES;
     let vtable = plane
         .axis

@@ -185,6 +185,7 @@ mod tests {
             textures: &textures,
             camera: &cam,
             scale: 1.0,
+            limits: crate::scene::Limits::at_scale(1.0),
         };
         // An 8 x 6 wall at z = -4, material gray (ambient 0.5, diffuse 3).
         let def = RectDef::new(

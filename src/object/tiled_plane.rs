@@ -181,6 +181,7 @@ mod tests {
             textures: &[],
             camera: &cam,
             scale: 1.0,
+            limits: crate::scene::Limits::at_scale(1.0),
         };
         // u = (1,0,0), v = n x u = (0,0,-1): q = (x, -z).
         let at = |x: f64, z: f64| {

@@ -85,10 +85,7 @@ pub fn parse_scene_with_scale<
     Ok(scene)
 }
 
-/// A texture resolver for scenes without textures: every file is "not found".
-pub fn no_textures<'t>(_filename: &str) -> Result<&'t [u8], TextureError> {
-    Err(TextureError::NotFound)
-}
+pub use crate::texture::no_textures;
 
 /// The attributes an entity takes, in the order the printer writes them.
 pub const fn attributes_of(entity: Entity) -> &'static [Attr] {

@@ -310,6 +310,8 @@ impl Vec3<I16F16> {
 
 impl Scalar for I16F16 {
     const NAME: &'static str = "i16f16";
+    const CODE: u8 = 3;
+    const RAW_BYTES: usize = 4;
     const ZERO: Self = Self::from_bits(0);
     const ONE: Self = Self::from_bits(1 << FRAC);
     const TWO: Self = Self::from_bits(2 << FRAC);
@@ -399,6 +401,15 @@ impl Scalar for I16F16 {
     fn scale3(v: Vec3<Self>, factor: Wide) -> Vec3<Self> {
         let [x, y, z] = factor.scale_bits3(v.bits());
         Vec3::new(Self::from_bits(x), Self::from_bits(y), Self::from_bits(z))
+    }
+
+    #[inline]
+    fn to_raw(self) -> u64 {
+        u64::from(self.to_bits() as u32)
+    }
+    #[inline]
+    fn from_raw(raw: u64) -> Self {
+        Self::from_bits(raw as u32 as i32)
     }
 
     /// Saturated at either end: every operation saturates instead of wrapping, so a result
@@ -737,7 +748,8 @@ mod tests {
 
     #[test]
     fn bytes_match_the_f64_conversion() {
-        for bits in (0..=70_000).step_by(7).chain([i32::MAX, -1, i32::MIN]) {
+        // Every value from below 0 to above 1, and the ends of the range.
+        for bits in (-70_000..=140_000).chain([i32::MAX, i32::MAX - 1, i32::MIN]) {
             let v = I16F16::from_bits(bits);
             assert_eq!(v.to_byte(), v.to_f64().to_byte(), "{bits}");
         }

@@ -35,7 +35,8 @@ pub enum PixelSteps {
     /// course's).
     Multiply,
     /// From one to the next by the step's integer and fractional parts, exactly as the
-    /// course's formula gives them in a type with uniformly spaced values (fixed point).
+    /// course's formula gives them in a type with uniformly spaced values (fixed point,
+    /// whose [`Scalar::to_raw`] is the value in steps of [`Scalar::MIN_NORMAL`], signed).
     Exact,
 }
 
@@ -123,6 +124,16 @@ pub trait Scalar:
     fn scale3(v: Vec3<Self>, factor: Self::Wide) -> Vec3<Self> {
         Vec3::new(v.x.scale(factor), v.y.scale(factor), v.z.scale(factor))
     }
+
+    /// The type's code in a compiled scene ([`crate::compiled`]): 1 `f64`, 2 `f32`, 3 `I16F16`.
+    const CODE: u8;
+    /// How many bytes a value takes in a compiled scene.
+    const RAW_BYTES: usize;
+    /// The value's bits (`to_bits` of the float types, the fixed-point word), as a
+    /// compiled scene stores them.
+    fn to_raw(self) -> u64;
+    /// The value with these bits (the low [`RAW_BYTES`](Self::RAW_BYTES) bytes count).
+    fn from_raw(raw: u64) -> Self;
 
     /// The nearest value of this type (saturating where the type's range ends).
     fn from_f64(value: f64) -> Self;
@@ -252,6 +263,8 @@ pub trait Scalar:
 
 impl Scalar for f64 {
     const NAME: &'static str = "f64";
+    const CODE: u8 = 1;
+    const RAW_BYTES: usize = 8;
     const ZERO: Self = 0.0;
     const ONE: Self = 1.0;
     const TWO: Self = 2.0;
@@ -297,6 +310,14 @@ impl Scalar for f64 {
         self * factor
     }
 
+    #[inline]
+    fn to_raw(self) -> u64 {
+        self.to_bits()
+    }
+    #[inline]
+    fn from_raw(raw: u64) -> Self {
+        f64::from_bits(raw)
+    }
     #[inline]
     fn from_f64(value: f64) -> Self {
         value
@@ -405,6 +426,8 @@ pub(crate) fn f32_byte_by_bits(v: f32) -> u8 {
 
 impl Scalar for f32 {
     const NAME: &'static str = "f32";
+    const CODE: u8 = 2;
+    const RAW_BYTES: usize = 4;
     const ZERO: Self = 0.0;
     const ONE: Self = 1.0;
     const TWO: Self = 2.0;
@@ -452,6 +475,14 @@ impl Scalar for f32 {
         self * factor
     }
 
+    #[inline]
+    fn to_raw(self) -> u64 {
+        u64::from(self.to_bits())
+    }
+    #[inline]
+    fn from_raw(raw: u64) -> Self {
+        f32::from_bits(raw as u32)
+    }
     #[inline]
     fn from_f64(value: f64) -> Self {
         value as f32

@@ -22,7 +22,7 @@ use crate::bvh::Tree;
 use crate::light::Light;
 use crate::material::Material;
 use crate::object::{
-    Among, Hit, Object, Palette, RowEntry, Surface, Z_LIMIT, any_hit_among, any_hit_remembering,
+    Among, Hit, Object, Palette, RowEntry, Surface, any_hit_among, any_hit_remembering,
     closest_hit_among, closest_hit_in_row,
 };
 use crate::plan::Stages;
@@ -90,8 +90,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
             objects,
             lights,
             palette,
-            max_distance: S::from_f64(MAX_DISTANCE * palette.scale),
-            z_limit: S::from_f64(Z_LIMIT * palette.scale),
+            max_distance: palette.limits.distance,
+            z_limit: palette.limits.z,
             stages: Stages::ALL,
             among: Among::All,
             shadow_cache: None,

@@ -1,8 +1,11 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
-use microray::host::HostScene;
+use microray::Scalar;
+use microray::host::{Framebuffer, HostScene};
 use microray::object::Shape;
+use microray::render::Renderer;
+use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 
 /// The course's conformance folder from `MICRORAY_CONFORMANCE`: `None` (and a note) when the
@@ -108,4 +111,16 @@ pub fn on_texel_edge(
     };
     let near_whole = |v: f64| (v - v.round()).abs() <= 1e-9 * v.abs().max(1.0);
     near_whole(across) || near_whole(up)
+}
+
+/// The render through rows (`render_area`, where rows are shaded together).
+pub fn image<S: Scalar, const OBJECTS: usize>(renderer: &Renderer<'_, S, OBJECTS>) -> Framebuffer {
+    let size = renderer.size();
+    let mut image = Framebuffer::new(size);
+    let mut row = vec![Default::default(); size.width as usize];
+    let all = embedded_graphics::primitives::Rectangle::new(Default::default(), size);
+    renderer
+        .render_area(&mut image, all, &mut row, |_| ControlFlow::Continue(()))
+        .unwrap();
+    image
 }

@@ -730,14 +730,11 @@ fn host_render<S: Scalar>(source: &Source<'_>, width: u16, height: u16) -> Resul
             &static_scene::OBJECTS,
         )
         .map_err(|e| e.to_string())?,
-        Source::Basic => microray::Scene::from_defs(
-            &basic_scene::CAMERA,
-            &basic_scene::MATERIALS,
-            &[],
-            &basic_scene::LIGHTS,
-            &basic_scene::OBJECTS,
-        )
-        .map_err(|e| e.to_string())?,
+        Source::Basic => {
+            let mut scene = microray::Scene::empty();
+            basic_scene::load(&mut scene).map_err(|e| e.to_string())?;
+            scene
+        }
     };
     scene
         .set_resolution(width, height)
@@ -845,7 +842,7 @@ fn flash_by_part(root: &Path, conformance: Option<&Path>, size: &str) -> Result<
     let mut out = String::from(
         "\n## Flash by part\n\n\
          - minimal: `--no-default-features`, no optional microray feature: planes and spheres, \
-         point lights, ambient and diffuse light, the `basic` scene in Rust source, no parser;\n\
+         point lights, ambient and diffuse light, the `basic` scene in Rust source compiled on the host (`Scene::load_compiled`: no f64 arithmetic), no parser;\n\
          - full, scenes in source: every feature, the `static` scene (tiled plane, texture, \
          spotlight, glints) and `basic` in source, no parser linked;\n\
          - full + parser + spec0: the same with the parser and one scene file (spec0, {spec0} \

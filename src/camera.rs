@@ -111,8 +111,11 @@ impl<S: Scalar> Positions<S> {
                 positions.value = world.mul_ratio(first, n);
                 positions.bump = S::from_raw(1);
                 let steps = |v: S| signed_raw(v);
+                // Within 0..n for every window the loaders accept; clamped there for any
+                // other, so that the sums in `next_position` cannot overflow.
                 let remainder = |count: u16, value: S| {
-                    (steps(world) * i64::from(count) - steps(value) * i64::from(n)) as u32
+                    let exact = steps(world) * i64::from(count) - steps(value) * i64::from(n);
+                    exact.clamp(0, i64::from(n) - 1) as u32
                 };
                 positions.remainder_step = remainder(1, positions.step);
                 positions.remainder = remainder(first, positions.value);

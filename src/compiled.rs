@@ -41,7 +41,8 @@ pub enum CompiledError {
     },
     /// It ends early.
     Truncated,
-    /// An object kind, flag, axis or mode that does not exist.
+    /// An object kind, flag, axis or mode that does not exist, or a world window that is
+    /// not positive.
     BadValue,
     /// A material or texture index past the end of its list.
     BadIndex,
@@ -233,11 +234,17 @@ pub(crate) fn read_camera<S: Scalar>(
             max: u32::try_from(max_width).unwrap_or(u32::MAX),
         });
     }
+    let at = input.at;
+    let world: [S; 2] = [input.number()?, input.number()?];
+    // NaN fails this too.
+    if !world.iter().all(|&w| w > S::ZERO) {
+        return Err(Reader::error_at(at, CompiledError::BadValue));
+    }
     Ok(Camera {
         name,
         width,
         height,
-        world: [input.number()?, input.number()?],
+        world,
         viewpoint: input.vec3()?,
     })
 }

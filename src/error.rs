@@ -921,7 +921,9 @@ impl fmt::Display for CompiledError {
                 "compiled for another number type (code {found}; 1 f64, 2 f32, 3 i16f16)"
             ),
             CompiledError::Truncated => f.write_str("ends early"),
-            CompiledError::BadValue => f.write_str("no such object kind, flag, axis or mode"),
+            CompiledError::BadValue => {
+                f.write_str("no such object kind, flag, axis or mode, or a window not above 0")
+            }
             CompiledError::BadIndex => f.write_str("index past the end of its list"),
             CompiledError::Trailing => f.write_str("bytes after the last object"),
         }

@@ -156,6 +156,21 @@ fn header_number_type_index_and_kind_are_checked() {
             problem: CompiledError::BadValue
         }
     );
+    // A world window that is not positive (the loaders reject it; stepping along it would
+    // not be defined): after the header (14 bytes), the limits (8) and the camera's name
+    // (2), width and height (4).
+    let world = 14 + 8 + 2 + 4;
+    for bad in [-1.0f32, 0.0, f32::NAN] {
+        let mut changed = bytes.clone();
+        changed[world..world + 4].copy_from_slice(&bad.to_le_bytes());
+        assert_eq!(
+            load_small(&changed).unwrap_err(),
+            ErrorKind::Compiled {
+                offset: world as u32,
+                problem: CompiledError::BadValue
+            }
+        );
+    }
     // A scene too small for what the bytes hold.
     let mut narrow: Box<Scene<'static, f32, 1, 4, 2, 0, 64>> = Box::new(Scene::empty());
     assert!(matches!(

@@ -96,11 +96,17 @@ impl<'w> Writer<'w> {
 pub(crate) struct Reader<'b> {
     bytes: &'b [u8],
     at: usize,
+    /// Where a number ran past the end (numbers are not checked one by one: see `number`).
+    truncated_at: Option<usize>,
 }
 
 impl<'b> Reader<'b> {
     pub(crate) fn new(bytes: &'b [u8]) -> Self {
-        Self { bytes, at: 0 }
+        Self {
+            bytes,
+            at: 0,
+            truncated_at: None,
+        }
     }
     /// A problem with the value that starts at byte `at`.
     fn error_at(at: usize, problem: CompiledError) -> ErrorKind {
@@ -134,16 +140,36 @@ impl<'b> Reader<'b> {
     pub(crate) fn f64(&mut self) -> Result<f64, ErrorKind> {
         Ok(f64::from_bits(u64::from_le_bytes(self.array()?)))
     }
-    pub(crate) fn number<S: Scalar>(&mut self) -> Result<S, ErrorKind> {
+    /// A number. Past the end it reads as zero and the reader remembers where, which
+    /// [`checked`](Self::checked) reports: scenes are mostly numbers, and one check at the
+    /// end instead of one at each saves flash. (No value is used before that check.)
+    pub(crate) fn number<S: Scalar>(&mut self) -> S {
         let mut raw = [0; 8];
-        let bytes = self.take(S::RAW_BYTES)?;
-        raw.get_mut(..bytes.len())
-            .ok_or(self.error(CompiledError::BadValue))?
-            .copy_from_slice(bytes);
-        Ok(S::from_raw(u64::from_le_bytes(raw)))
+        let end = self.at.checked_add(S::RAW_BYTES);
+        match end.and_then(|end| self.bytes.get(self.at..end)) {
+            Some(bytes) => {
+                if let Some(low) = raw.get_mut(..bytes.len()) {
+                    low.copy_from_slice(bytes);
+                }
+                self.at += S::RAW_BYTES;
+            }
+            None => {
+                self.truncated_at.get_or_insert(self.at);
+                self.at = self.bytes.len();
+            }
+        }
+        S::from_raw(u64::from_le_bytes(raw))
     }
-    pub(crate) fn vec3<S: Scalar>(&mut self) -> Result<Vec3<S>, ErrorKind> {
-        Ok(Vec3::new(self.number()?, self.number()?, self.number()?))
+    pub(crate) fn vec3<S: Scalar>(&mut self) -> Vec3<S> {
+        Vec3::new(self.number(), self.number(), self.number())
+    }
+    /// The outcome of reading a whole scene: a number past the end comes first, as the
+    /// first problem in the bytes (later checks saw its zeros).
+    pub(crate) fn checked(&self, result: Result<(), ErrorKind>) -> Result<(), ErrorKind> {
+        match self.truncated_at {
+            Some(at) => Err(Self::error_at(at, CompiledError::Truncated)),
+            None => result,
+        }
     }
     pub(crate) fn text(&mut self) -> Result<&'b str, ErrorKind> {
         let len = self.byte()?;
@@ -235,7 +261,7 @@ pub(crate) fn read_camera<S: Scalar>(
         });
     }
     let at = input.at;
-    let world: [S; 2] = [input.number()?, input.number()?];
+    let world: [S; 2] = [input.number(), input.number()];
     // NaN fails this too.
     if !world.iter().all(|&w| w > S::ZERO) {
         return Err(Reader::error_at(at, CompiledError::BadValue));
@@ -245,7 +271,7 @@ pub(crate) fn read_camera<S: Scalar>(
         width,
         height,
         world,
-        viewpoint: input.vec3()?,
+        viewpoint: input.vec3(),
     })
 }
 
@@ -262,12 +288,12 @@ pub(crate) fn write_material<S: Scalar>(out: &mut Writer<'_>, m: &Material<S>) {
 pub(crate) fn read_material<S: Scalar>(input: &mut Reader<'_>) -> Result<Material<S>, ErrorKind> {
     Ok(Material {
         name: bounded(input.text()?)?,
-        ambient: input.vec3()?,
-        diffuse: input.vec3()?,
-        specular: input.number()?,
-        shininess: input.number()?,
-        transparency: input.number()?,
-        filter: input.vec3()?,
+        ambient: input.vec3(),
+        diffuse: input.vec3(),
+        specular: input.number(),
+        shininess: input.number(),
+        transparency: input.number(),
+        filter: input.vec3(),
     })
 }
 
@@ -290,14 +316,14 @@ pub(crate) fn write_light<S: Scalar>(out: &mut Writer<'_>, light: &Light<S>) {
 
 pub(crate) fn read_light<S: Scalar>(input: &mut Reader<'_>) -> Result<Light<S>, ErrorKind> {
     let name = bounded(input.text()?)?;
-    let (location, emissivity, diffuse_emissivity) = (input.vec3()?, input.vec3()?, input.vec3()?);
+    let (location, emissivity, diffuse_emissivity) = (input.vec3(), input.vec3(), input.vec3());
     let spot = if input.flag()? {
         Feature::Spotlight.require(None)?;
         Some(Spot {
-            point: input.vec3()?,
-            theta: input.number()?,
-            axis: input.vec3()?,
-            cos_theta: input.number()?,
+            point: input.vec3(),
+            theta: input.number(),
+            axis: input.vec3(),
+            cos_theta: input.number(),
         })
     } else {
         None
@@ -328,7 +354,7 @@ fn write_plane<S: Scalar>(out: &mut Writer<'_>, p: &Plane<S>) {
 
 fn read_plane<S: Scalar>(input: &mut Reader<'_>) -> Result<Plane<S>, ErrorKind> {
     let (normal, point, unit_normal, n_dot_point) =
-        (input.vec3()?, input.vec3()?, input.vec3()?, input.number()?);
+        (input.vec3(), input.vec3(), input.vec3(), input.number());
     let at = input.at;
     let axis = match input.byte()? {
         u8::MAX => None,
@@ -356,10 +382,10 @@ fn write_rect<S: Scalar>(out: &mut Writer<'_>, r: &Rect<S>) {
 fn read_rect<S: Scalar>(input: &mut Reader<'_>) -> Result<Rect<S>, ErrorKind> {
     Ok(Rect {
         plane: read_plane(input)?,
-        xdir: input.vec3()?,
-        dimensions: [input.number()?, input.number()?],
-        u: input.vec3()?,
-        v: input.vec3()?,
+        xdir: input.vec3(),
+        dimensions: [input.number(), input.number()],
+        u: input.vec3(),
+        v: input.vec3(),
     })
 }
 
@@ -416,9 +442,9 @@ pub(crate) fn read_object<S: Scalar>(
         PLANE => plane_object(name, material, read_plane(input)?),
         SPHERE => {
             let sphere = Sphere {
-                center: input.vec3()?,
-                radius: input.number()?,
-                radius_squared: input.number()?,
+                center: input.vec3(),
+                radius: input.number(),
+                radius_squared: input.number(),
             };
             Object::init(&Sphere::VTABLE, name, material, Shape::Sphere(sphere))
         }
@@ -433,8 +459,8 @@ pub(crate) fn read_object<S: Scalar>(
                 rect: read_rect(input)?,
                 altmaterial: input.index(materials)?,
                 offset: [
-                    (input.flag()?, input.number()?),
-                    (input.flag()?, input.number()?),
+                    (input.flag()?, input.number()),
+                    (input.flag()?, input.number()),
                 ],
                 written_dimensions: [input.f64()?, input.f64()?],
             };

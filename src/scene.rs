@@ -50,6 +50,15 @@ impl<S: Scalar> Limits<S> {
             distance: S::from_f64(MAX_DISTANCE * scale),
         }
     }
+
+    /// [`at_scale(1.0)`](Self::at_scale) without `f64` (a scene whose scale was never set):
+    /// 1/100 and 32 are the nearest values in every type (tested).
+    fn unscaled() -> Self {
+        Self {
+            z: S::ONE.mul_ratio(1, 100),
+            distance: S::from_i32(32),
+        }
+    }
 }
 
 /// The default widest image: the renderer keeps one row of this many pixels.
@@ -393,23 +402,46 @@ impl<
     pub fn load_compiled(
         &mut self,
         bytes: &[u8],
-        mut textures: impl FnMut(&str) -> Result<&'t [u8], TextureError>,
+        textures: impl FnMut(&str) -> Result<&'t [u8], TextureError>,
     ) -> Result<(), Error> {
+        // One conversion to `Error` instead of one at each `?`: less flash.
+        Ok(self.read_compiled(bytes, textures)?)
+    }
+
+    fn read_compiled(
+        &mut self,
+        bytes: &[u8],
+        textures: impl FnMut(&str) -> Result<&'t [u8], TextureError>,
+    ) -> Result<(), ErrorKind> {
         let mut input = compiled::Reader::new(bytes);
+        let result = self.read_parts(&mut input, textures);
+        input.checked(result)
+    }
+
+    fn read_parts(
+        &mut self,
+        input: &mut compiled::Reader<'_>,
+        mut textures: impl FnMut(&str) -> Result<&'t [u8], TextureError>,
+    ) -> Result<(), ErrorKind> {
         let scale = input.header::<S>()?;
         let limits = Limits {
-            z: input.number()?,
-            distance: input.number()?,
+            z: input.number(),
+            distance: input.number(),
         };
         self.clear_lists();
         self.scale = scale;
         self.limits = Some(limits);
-        self.camera = compiled::read_camera(&mut input, MAX_WIDTH)?;
+        self.camera = compiled::read_camera(input, MAX_WIDTH)?;
         for _ in 0..input.u16()? {
-            let material = compiled::read_material(&mut input)?;
+            let material = compiled::read_material(input)?;
             push(&mut self.materials, material, Collection::Materials)?;
         }
-        for _ in 0..input.u16()? {
+        let textures_in_scene = input.u16()?;
+        if textures_in_scene > 0 {
+            // Before reading them: without the feature, the loop is left out.
+            Feature::Texture.require(None)?;
+        }
+        for _ in 0..textures_in_scene {
             let (name, filename) = (input.text()?, input.text()?);
             let ppm = textures(filename).map_err(|error| ErrorKind::Texture {
                 file: Snippet::new(filename.as_bytes()),
@@ -422,12 +454,11 @@ impl<
             })?;
         }
         for _ in 0..input.u16()? {
-            let light = compiled::read_light(&mut input)?;
+            let light = compiled::read_light(input)?;
             push(&mut self.lights, light, Collection::Lights)?;
         }
         for _ in 0..input.u16()? {
-            let object =
-                compiled::read_object(&mut input, self.materials.len(), self.textures.len())?;
+            let object = compiled::read_object(input, self.materials.len(), self.textures.len())?;
             push(&mut self.objects, object, Collection::Objects)?;
         }
         input.finish()?;
@@ -486,7 +517,7 @@ impl<
 
     /// The lengths shading compares with, at the scene's scale.
     pub fn limits(&self) -> Limits<S> {
-        self.limits.unwrap_or_else(|| Limits::at_scale(1.0))
+        self.limits.unwrap_or_else(Limits::unscaled)
     }
 
     /// The nearest hit with `t > 0` over all objects, skipping object `skip` (the one the
@@ -502,6 +533,21 @@ mod tests {
     use crate::vec3::Vec3;
 
     const CAMERA: CameraDef<'static> = CameraDef::new("c", [64, 48], [8.0, 6.0], [4.0, 3.0, 3.0]);
+
+    #[test]
+    fn unscaled_limits_are_the_limits_at_scale_one() {
+        fn same<S: Scalar>() {
+            assert_eq!(
+                Limits::<S>::unscaled(),
+                Limits::<S>::at_scale(1.0),
+                "{}",
+                S::NAME
+            );
+        }
+        same::<f64>();
+        same::<f32>();
+        same::<crate::scalar::I16F16>();
+    }
 
     #[test]
     fn capacities_are_errors() {

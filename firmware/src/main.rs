@@ -267,7 +267,8 @@ fn report_frame(name: &str, suffix: &str, result: Result<(), &str>) {
 }
 
 /// The RAM of the parts a render keeps on the stack, and of one slot of each of the
-/// scene's capacities, for the xtask's table.
+/// scene's capacities, for the xtask's table (spec0's RAM: the full build).
+#[cfg(feature = "full")]
 #[inline(never)]
 fn report_sizes() {
     use core::mem::size_of;
@@ -382,6 +383,7 @@ fn main() -> ! {
     stack::paint();
     let result = run_basic(&mut scene);
     report(basic_scene::NAME, result);
+    #[cfg(feature = "full")]
     report_sizes();
     for (name, why) in SKIPPED {
         console::line(&[

@@ -201,13 +201,21 @@ pub fn run(args: &[String]) -> Result<(), String> {
     measurement.check()
 }
 
-/// spec0 at 320x240 in the firmware with the parser and spec0 only, on one build (`name`,
-/// as `--build` takes it), at an optimisation level or the profile's; its frame checked.
-fn measure_spec0(root: &Path, name: &str, opt_level: Option<&str>) -> Result<Row, String> {
+/// One scene at 320x240 on one build (`name`, as `--build` takes it), at an optimisation
+/// level or the profile's; its frame checked. `spec0` in the firmware with the parser and
+/// spec0 only, or (`minimal`) `basic` in the minimal firmware.
+fn measure_frame(
+    root: &Path,
+    name: &str,
+    opt_level: Option<&str>,
+    scene: &str,
+    minimal: bool,
+) -> Result<Row, String> {
     let options = Options {
-        only: "spec0".into(),
+        only: if minimal { "none" } else { scene }.into(),
         build: Some(name.into()),
         opt_level: opt_level.map(str::to_string),
+        minimal,
         ..Options::default()
     };
     let measured = measure(root, 320, 240, &options)?;
@@ -215,8 +223,8 @@ fn measure_spec0(root: &Path, name: &str, opt_level: Option<&str>) -> Result<Row
     measured
         .rows
         .into_iter()
-        .find(|r| r.scene == "spec0")
-        .ok_or_else(|| "spec0 was not rendered".to_string())
+        .find(|r| r.scene == scene)
+        .ok_or_else(|| format!("{scene} was not rendered"))
 }
 
 /// RAM by part for spec0 at 320x240 on both machines: the sizes the firmware reports
@@ -225,7 +233,7 @@ fn ram_by_part(root: &Path, all: &[Row]) -> Result<String, String> {
     let mut columns = Vec::new();
     let mut deepest_scenes = Vec::new();
     for name in ["mps2-an386-f32", "microbit-fixed"] {
-        let spec0 = measure_spec0(root, name, None)?;
+        let spec0 = measure_frame(root, name, None, "spec0", false)?;
         let console =
             std::fs::read_to_string(root.join("target/qemu").join(name).join("console.txt"))
                 .map_err(|e| e.to_string())?;
@@ -317,43 +325,38 @@ fn ram_by_part(root: &Path, all: &[Row]) -> Result<String, String> {
     Ok(out)
 }
 
-/// The optimisation levels a firmware can be built at, against each other: flash of the
-/// minimal build and of the full one with the parser and spec0, and spec0's instructions a
-/// pixel at 320x240, on both machines (`cargo xtask qemu --opt-levels`, which writes
-/// `docs/opt-levels.md`; the complete run includes it in `docs/firmware.md`).
+/// The optimisation levels a firmware can be built at, against each other: flash and
+/// instructions a pixel at 320x240 of the minimal build (its `basic` scene) and of the full
+/// one with the parser and spec0, on both machines (`cargo xtask qemu --opt-levels`, which
+/// writes `docs/opt-levels.md`; the complete run includes it in `docs/firmware.md`).
 fn opt_levels() -> Result<(), String> {
     let root = root()?;
-    let conformance = conformance_dir(&root);
     let mut out = String::from(
         "## Optimisation level: flash against speed\n\n\
          Written by `cargo xtask qemu --opt-levels`: each firmware built at each level \
-         (`CARGO_PROFILE_RELEASE_OPT_LEVEL`), flash in bytes as above, spec0's instructions a \
-         pixel at 320x240 (its frames compared with the host's like every other).\n\n\
-         | opt-level | M4F f32 minimal | M4F f32 full + parser + spec0 | M4F f32 spec0 instr/px | \
-         M0 I16F16 minimal | M0 I16F16 full + parser + spec0 | M0 I16F16 spec0 instr/px |\n\
-         |---|---|---|---|---|---|---|\n",
+         (`CARGO_PROFILE_RELEASE_OPT_LEVEL`, `CARGO_PROFILE_RELEASE_SMALL_OPT_LEVEL`), flash in \
+         bytes as above, and the instructions a pixel at 320x240 of the minimal build's `basic` \
+         scene and of spec0 in the full build (their frames compared with the host's like every \
+         other). The full firmware's profile (`release`) is at 3, the minimal firmware's \
+         (`release-small`) at z.\n\n\
+         | opt-level | M4F f32 minimal | its basic instr/px | M4F f32 full + parser + spec0 | \
+         its spec0 instr/px | M0 I16F16 minimal | its basic instr/px | \
+         M0 I16F16 full + parser + spec0 | its spec0 instr/px |\n\
+         |---|---|---|---|---|---|---|---|---|\n",
     );
     for level in ["3", "2", "s", "z"] {
         let _ = write!(out, "| {level} |");
         for build_name in ["mps2-an386-f32", "microbit-fixed"] {
-            let build = BUILDS
-                .iter()
-                .find(|b| format!("{}-{}", b.machine, b.number) == build_name)
-                .ok_or("no such build")?;
-            let minimal = Variant {
-                only: "none",
-                plan: "",
-                full: false,
-                opt_level: level,
-            };
-            let elf = build_firmware(&root, build, conformance.as_deref(), "320x240", &minimal)?;
-            let minimal_flash = inspect(&elf)?.1.flash;
-            let spec0 = measure_spec0(&root, build_name, Some(level))?;
+            let basic = measure_frame(&root, build_name, Some(level), "basic", true)?;
+            let spec0 = measure_frame(&root, build_name, Some(level), "spec0", false)?;
+            let per_pixel = |row: &Row| row.insns as f64 / (320.0 * 240.0);
             let _ = write!(
                 out,
-                " {minimal_flash} | {} | {:.0} |",
+                " {} | {:.0} | {} | {:.0} |",
+                basic.size.flash,
+                per_pixel(&basic),
                 spec0.size.flash,
-                spec0.insns as f64 / (320.0 * 240.0)
+                per_pixel(&spec0)
             );
         }
         out.push('\n');
@@ -579,12 +582,20 @@ fn build_firmware(
     if !conformance.is_empty() {
         envs.push(("MICRORAY_CONFORMANCE", conformance.as_str()));
     }
+    // The minimal build is built for size (the firmware's `release-small` profile).
+    let profile = if variant.full {
+        "release"
+    } else {
+        "release-small"
+    };
     if !variant.opt_level.is_empty() {
         envs.push(("CARGO_PROFILE_RELEASE_OPT_LEVEL", variant.opt_level));
+        envs.push(("CARGO_PROFILE_RELEASE_SMALL_OPT_LEVEL", variant.opt_level));
     }
     let mut args = vec![
         "build",
-        "--release",
+        "--profile",
+        profile,
         "--target",
         build.target,
         "--features",
@@ -598,7 +609,8 @@ fn build_firmware(
     let elf = dir
         .join("target")
         .join(build.target)
-        .join("release/microray-firmware");
+        .join(profile)
+        .join("microray-firmware");
     let copy = root.join("target/qemu").join(format!(
         "firmware-{}-{}{}.elf",
         build.machine,
@@ -842,7 +854,7 @@ fn flash_by_part(root: &Path, conformance: Option<&Path>, size: &str) -> Result<
     let mut out = String::from(
         "\n## Flash by part\n\n\
          - minimal: `--no-default-features`, no optional microray feature: planes and spheres, \
-         point lights, ambient and diffuse light, the `basic` scene in Rust source compiled on the host (`Scene::load_compiled`: no f64 arithmetic), no parser;\n\
+         point lights, ambient and diffuse light, the `basic` scene in Rust source compiled on the host (`Scene::load_compiled`: no f64 arithmetic), no parser; built for size (the firmware's `release-small` profile, opt-level z);\n\
          - full, scenes in source: every feature, the `static` scene (tiled plane, texture, \
          spotlight, glints) and `basic` in source, no parser linked;\n\
          - full + parser + spec0: the same with the parser and one scene file (spec0, {spec0} \

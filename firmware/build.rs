@@ -38,7 +38,8 @@ fn main() {
     // Objects a scene holds: the micro:bit's 16 KiB of RAM has room for a few; the MPS2
     // board's 4 MiB for the project's scene of a hundred spheres.
     let objects: usize = if microbit { 6 } else { 128 };
-    // A comma-separated list of scene names to embed (all when unset), for profiling.
+    // A comma-separated list of scene names to embed, files and the scenes in source (`static`,
+    // `basic`) alike (all when unset; `none`: none).
     let only: Option<Vec<String>> = env::var("MICRORAY_FW_ONLY")
         .ok()
         .filter(|s| !s.is_empty())
@@ -73,15 +74,26 @@ fn main() {
 
     // The micro:bit's 256 KiB of flash cannot hold the course's photographs (192 and 432 KiB).
     let texture_budget = if microbit { 16 * 1024 } else { usize::MAX };
-    // The scene's capacities: what the embedded scenes need (the scenes in source: `basic`
-    // has 4 objects, 3 materials and 2 lights; `static`, in the full build, 4, 4, 2 and a
-    // texture), so that its RAM is what a firmware author sizing a scene would give it.
-    let mut capacity = Capacity {
-        objects: 4,
-        materials: if parser { 4 } else { 3 },
-        lights: 2,
-        textures: usize::from(parser),
+    // The scenes in source run unless `MICRORAY_FW_ONLY` leaves them out (`static` needs the
+    // full build's features).
+    let wanted = |name: &str| {
+        only.as_ref()
+            .is_none_or(|names| names.iter().any(|n| n == name))
     };
+    let run_static = parser && wanted("static");
+    let run_basic = wanted("basic");
+    // The scene's capacities: what the embedded scenes need (the scenes in source: `basic`
+    // has 4 objects, 3 materials and 2 lights; `static` 4, 4, 2 and a texture), so that its
+    // RAM is what a firmware author sizing a scene would give it.
+    let in_source = [
+        (run_basic, Capacity::new(4, 3, 2, 0)),
+        (run_static, Capacity::new(4, 4, 2, 1)),
+    ];
+    let mut capacity = Capacity::new(0, 0, 0, 0);
+    for (_, needs) in in_source.iter().filter(|(runs, _)| *runs) {
+        capacity = capacity.max(needs);
+    }
+
     let mut table = String::from("pub const SCENES: &[SceneFile] = &[\n");
     let mut skipped = String::from("pub const SKIPPED: &[(&str, &str)] = &[\n");
     for path in files {
@@ -138,6 +150,7 @@ fn main() {
          pub const OBJECTS: usize = {objects};\npub const MATERIALS: usize = {materials};\n\
          pub const LIGHTS: usize = {lights};\npub const TEXTURES: usize = {textures};\n\
          pub const COMPARE_PLAN: bool = {compare_plan};\n\
+         pub const RUN_STATIC: bool = {run_static};\npub const RUN_BASIC: bool = {run_basic};\n\
          {table}{skipped}"
     );
     fs::write(out.join("scenes.rs"), generated).unwrap();
@@ -179,6 +192,15 @@ struct Capacity {
 }
 
 impl Capacity {
+    const fn new(objects: usize, materials: usize, lights: usize, textures: usize) -> Self {
+        Self {
+            objects,
+            materials,
+            lights,
+            textures,
+        }
+    }
+
     /// What a scene file defines: its blocks opened by each keyword.
     fn of(text: &str) -> Self {
         Self {

@@ -48,8 +48,12 @@ mod scenes {
     include!(concat!(env!("OUT_DIR"), "/scenes.rs"));
 }
 #[cfg(feature = "full")]
+use scenes::RUN_STATIC;
+#[cfg(feature = "full")]
 use scenes::SCENES;
-use scenes::{COMPARE_PLAN, HEIGHT, LIGHTS, MATERIALS, OBJECTS, SKIPPED, TEXTURES, WIDTH};
+use scenes::{
+    COMPARE_PLAN, HEIGHT, LIGHTS, MATERIALS, OBJECTS, RUN_BASIC, SKIPPED, TEXTURES, WIDTH,
+};
 
 /// Capacities that hold every embedded scene and no more (build.rs counts them, and leaves
 /// out scenes with more objects than the machine has room for); files up to 800 pixels wide
@@ -376,13 +380,17 @@ fn main() -> ! {
             });
             report(file.name, result);
         }
-        stack::paint();
-        let result = run_static(&mut scene);
-        report(static_scene::NAME, result);
+        if RUN_STATIC {
+            stack::paint();
+            let result = run_static(&mut scene);
+            report(static_scene::NAME, result);
+        }
     }
-    stack::paint();
-    let result = run_basic(&mut scene);
-    report(basic_scene::NAME, result);
+    if RUN_BASIC {
+        stack::paint();
+        let result = run_basic(&mut scene);
+        report(basic_scene::NAME, result);
+    }
     #[cfg(feature = "full")]
     report_sizes();
     for (name, why) in SKIPPED {

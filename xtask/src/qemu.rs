@@ -47,6 +47,8 @@ struct Variant<'a> {
     plan: &'a str,
     /// Every microray feature (else the minimal build).
     full: bool,
+    /// The firmware's `release-small` profile (opt-level z) instead of `release`.
+    small: bool,
     /// The optimisation level (`""`: the firmware's profile's).
     opt_level: &'a str,
 }
@@ -162,7 +164,7 @@ pub fn run(args: &[String]) -> Result<(), String> {
             width,
             height,
             &Options {
-                only: "none".into(),
+                only: "basic".into(),
                 minimal: true,
                 ..Options::default()
             },
@@ -212,7 +214,7 @@ fn measure_frame(
     minimal: bool,
 ) -> Result<Row, String> {
     let options = Options {
-        only: if minimal { "none" } else { scene }.into(),
+        only: scene.into(),
         build: Some(name.into()),
         opt_level: opt_level.map(str::to_string),
         minimal,
@@ -439,6 +441,8 @@ pub(crate) fn measure(
             only: &options.only,
             plan: if options.compare_plan { "compare" } else { "" },
             full: !options.minimal,
+            // The minimal build is built for size (the firmware's `release-small` profile).
+            small: options.minimal,
         };
         let elf = build_firmware(root, build, conformance.as_deref(), &size, &variant)?;
         let (markers, size) = inspect(&elf)?;
@@ -582,11 +586,10 @@ fn build_firmware(
     if !conformance.is_empty() {
         envs.push(("MICRORAY_CONFORMANCE", conformance.as_str()));
     }
-    // The minimal build is built for size (the firmware's `release-small` profile).
-    let profile = if variant.full {
-        "release"
-    } else {
+    let profile = if variant.small {
         "release-small"
+    } else {
+        "release"
     };
     if !variant.opt_level.is_empty() {
         envs.push(("CARGO_PROFILE_RELEASE_OPT_LEVEL", variant.opt_level));
@@ -854,13 +857,18 @@ fn flash_by_part(root: &Path, conformance: Option<&Path>, size: &str) -> Result<
     let mut out = String::from(
         "\n## Flash by part\n\n\
          - minimal: `--no-default-features`, no optional microray feature: planes and spheres, \
-         point lights, ambient and diffuse light, the `basic` scene in Rust source compiled on the host (`Scene::load_compiled`: no f64 arithmetic), no parser; built for size (the firmware's `release-small` profile, opt-level z);\n\
+         point lights, ambient and diffuse light, the `basic` scene in Rust source compiled on \
+         the host (`Scene::load_compiled`: no f64 arithmetic), no parser; built for size (the \
+         firmware's `release-small` profile, opt-level z);\n\
          - full, scenes in source: every feature, the `static` scene (tiled plane, texture, \
          spotlight, glints) and `basic` in source, no parser linked;\n\
-         - full + parser + spec0: the same with the parser and one scene file (spec0, {spec0} \
-         bytes of text); the parser's cost is the difference less the text.\n\n\
-         Bytes of `.vector_table + .text + .rodata + .data`, release builds with LTO.\n\n\
-         | machine | number | minimal | full, scenes in source | full + parser + spec0.txt | parser | minimal / full |\n\
+         - full + parser + spec0: every feature, the parser and one scene file (spec0, {spec0} \
+         bytes of text), nothing else; with the `release` profile (opt-level 3, the speed \
+         reported above) and with `release-small` (opt-level z: see the trade-off below);\n\
+         - parser: the parser's and the decimal reader's parts of the full + parser build.\n\n\
+         Bytes of `.vector_table + .text + .rodata + .data`, builds with LTO.\n\n\
+         | machine | number | minimal | full, scenes in source | full + parser + spec0.txt | \
+         the same, release-small | parser |\n\
          |---|---|---|---|---|---|---|\n",
     )
     .replace("{spec0}", &spec0.to_string());
@@ -870,19 +878,21 @@ fn flash_by_part(root: &Path, conformance: Option<&Path>, size: &str) -> Result<
         (b.machine, b.number) == ("mps2-an386", "f32")
             || (b.machine, b.number) == ("microbit", "fixed")
     }) {
-        let flash = |only: &str, full: bool| -> Result<(u64, [u64; 8]), String> {
+        let flash = |only: &str, full: bool, small: bool| -> Result<(u64, [u64; 8]), String> {
             let variant = Variant {
                 only,
                 plan: "",
                 full,
+                small,
                 opt_level: "",
             };
             let elf = build_firmware(root, build, conformance, size, &variant)?;
             Ok((inspect(&elf)?.1.flash, profile::flash_parts(&elf)?))
         };
-        let (minimal, minimal_parts) = flash("none", false)?;
-        let (source_only, _) = flash("none", true)?;
-        let (with_parser, parser_parts) = flash("spec0", true)?;
+        let (minimal, minimal_parts) = flash("basic", false, true)?;
+        let (source_only, _) = flash("static,basic", true, false)?;
+        let (with_parser, parser_parts) = flash("spec0", true, false)?;
+        let (with_parser_small, _) = flash("spec0", true, true)?;
         let number = if build.number == "fixed" {
             "I16F16"
         } else {
@@ -895,17 +905,14 @@ fn flash_by_part(root: &Path, conformance: Option<&Path>, size: &str) -> Result<
         ));
         let _ = writeln!(
             out,
-            "| {} | {} | {minimal} | {source_only} | {with_parser} | {} | {:.2} |",
+            "| {} | {} | {minimal} | {source_only} | {with_parser} | {with_parser_small} | {} |",
             build.machine,
             if build.number == "fixed" {
                 "i16f16"
             } else {
                 build.number
             },
-            with_parser
-                .saturating_sub(source_only)
-                .saturating_sub(spec0),
-            minimal as f64 / with_parser as f64
+            parser_parts[2] + parser_parts[3],
         );
     }
     out.push_str(

@@ -18,7 +18,7 @@ const NUMBERS: [&str; 3] = ["f64", "f32", "i16f16"];
 
 /// Scenes rendered in QEMU with and without the render plan: the hundred spheres where row
 /// culling pays, and scenes of a few objects where the stages matter more.
-const PLAN_SCENES: &str = "many_spheres,spec0,glass,minimal";
+const PLAN_SCENES: &str = "many_spheres,spec0,glass,minimal,static,basic";
 
 /// spec0 at 320x240, instructions per pixel of a straightforward generic tracer: the
 /// baselines the number-types issue measured.

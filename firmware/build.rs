@@ -242,15 +242,19 @@ fn object_count(text: &str) -> usize {
     )
 }
 
-/// The `filename` values of a scene and the files they name.
+/// The `filename` values of a scene and the files they name, and the `texname` values that
+/// name a file (`texname FILE`, read as an image when no texture block has that name).
 fn texture_files(text: &str, dir: &Path) -> Vec<(String, PathBuf)> {
     let mut words = text.split_whitespace();
-    let mut found = Vec::new();
+    let mut found: Vec<(String, PathBuf)> = Vec::new();
     while let Some(word) = words.next() {
-        if word == "filename"
-            && let Some(name) = words.next()
-        {
-            found.push((name.to_string(), dir.join(name).canonicalize().unwrap()));
+        let Some(name) = words.clone().next() else {
+            break;
+        };
+        let file = dir.join(name);
+        let named = word == "filename" || (word == "texname" && file.is_file());
+        if named && !found.iter().any(|(written, _)| written == name) {
+            found.push((name.to_string(), file.canonicalize().unwrap()));
         }
     }
     found

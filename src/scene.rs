@@ -280,7 +280,7 @@ impl<
         MaterialId::try_from(index).ok()
     }
 
-    fn find_texture(&self, name: &str) -> Option<u16> {
+    pub(crate) fn find_texture(&self, name: &str) -> Option<u16> {
         let index = self.textures.iter().position(|t| t.name() == name)?;
         u16::try_from(index).ok()
     }

@@ -618,3 +618,62 @@ fn pixels_closer_than_the_type_resolves() {
         })
     );
 }
+
+/// A `texplane` block naming its image with `texname FILE` (as the course's later scenes do).
+fn texplane(texname: &str) -> String {
+    format!(
+        "texplane t {{ material m normal 0 0 1 point 0 0 -5 xdir 1 0 0 dimensions 2 2 \
+         texname {texname} mode 0 }}\n"
+    )
+}
+
+#[test]
+fn texname_names_a_file_when_no_texture_block_has_that_name() {
+    // Read as if a `texture ok.ppm { filename ok.ppm }` block came first: the same scene.
+    let direct = format!("{CAM}{MAT}{}", texplane("ok.ppm"));
+    let block = format!(
+        "{CAM}{MAT}texture ok.ppm {{ filename ok.ppm }}\n{}",
+        texplane("ok.ppm")
+    );
+    let read =
+        |text: &str| -> HostScene<'_, f64> { parse_scene(text.as_bytes(), textures).unwrap() };
+    assert_eq!(read(&direct), read(&block));
+    assert_eq!(read(&direct).textures().len(), 1);
+    // Twice the same file: one texture.
+    let twice = format!(
+        "{CAM}{MAT}{}{}",
+        texplane("ok.ppm"),
+        texplane("ok.ppm").replace(" t ", " u ")
+    );
+    assert_eq!(read(&twice).textures().len(), 1);
+    // A texture block's name wins over a file of that name.
+    let named = format!(
+        "{CAM}{MAT}texture ok.ppm {{ filename p3.ppm }}\n{}",
+        texplane("ok.ppm")
+    );
+    assert!(error_of(&named).kind.to_string().contains("p3.ppm"));
+}
+
+#[test]
+fn texname_that_is_neither_a_texture_nor_a_file() {
+    // Line 3 (camera, material, texplane), at the texname's value.
+    let text = format!("{CAM}{MAT}{}", texplane("nothing"));
+    let column = texplane("nothing").find("nothing").unwrap() as u32 + 1;
+    assert_error(
+        &text,
+        3,
+        column,
+        "undefined texture `nothing` (textures must be defined before the planes that use them)",
+    );
+    // A file that is there but not an image: the texture error, at the same place.
+    let text = format!("{CAM}{MAT}{}", texplane("p3.ppm"));
+    let column = texplane("p3.ppm").find("p3.ppm").unwrap() as u32 + 1;
+    let e = error_of(&text);
+    let p = e.position.unwrap();
+    assert_eq!((p.line, p.column), (3, column));
+    assert!(
+        e.kind.to_string().starts_with("texture file `p3.ppm`"),
+        "{}",
+        e.kind
+    );
+}

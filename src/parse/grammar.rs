@@ -3,7 +3,9 @@
 use super::{Values, values_of};
 use crate::camera::CameraDef;
 use crate::decimal::{NumberError, parse_number};
-use crate::error::{Attr, Entity, Error, ErrorKind, Position, Range, Snippet, TextureError};
+use crate::error::{
+    Attr, Entity, Error, ErrorKind, Feature, Position, Range, Snippet, TextureError,
+};
 use crate::light::LightDef;
 use crate::material::MaterialDef;
 use crate::name::{NAME_CAPACITY, PATH_CAPACITY};
@@ -185,7 +187,7 @@ impl<'i> Block<'i> {
         let found = match kind {
             ErrorKind::UndefinedMaterial { attr, .. } => value_of(*attr),
             ErrorKind::UndefinedTexture { .. } => value_of(Attr::Texname),
-            ErrorKind::Texture { .. } => value_of(Attr::Filename),
+            ErrorKind::Texture { .. } => value_of(Attr::Filename).or(value_of(Attr::Texname)),
             ErrorKind::DuplicateName { .. } | ErrorKind::NameTooLong { .. } => Some(self.name_at),
             other => other.attribute().and_then(|a| self.slot(a)).map(|s| s.at),
         };
@@ -270,7 +272,31 @@ pub(super) fn parse_into<
         }
         Item::Material(def) => scene.add_material(&def),
         Item::Light(def) => scene.add_light(&def),
-        Item::Object(def) => scene.add_object(&def),
+        Item::Object(def) => {
+            // The later course scenes name an image file directly (`texname FILE`): a
+            // `texname` that names no texture block is read as a file, once, as if a
+            // `texture FILE { filename FILE }` block came first.
+            if let ShapeDef::TexPlane(_, texname, _) = def.shape
+                && Feature::Texture.enabled()
+                && scene.find_texture(texname).is_none()
+            {
+                let ppm = textures(texname).map_err(|error| match error {
+                    TextureError::NotFound => ErrorKind::UndefinedTexture {
+                        name: Snippet::new(texname.as_bytes()),
+                    },
+                    error => ErrorKind::Texture {
+                        file: Snippet::new(texname.as_bytes()),
+                        error,
+                    },
+                })?;
+                scene.add_texture(&TextureDef {
+                    name: texname,
+                    filename: texname,
+                    ppm,
+                })?;
+            }
+            scene.add_object(&def)
+        }
         Item::Texture { name, filename } => {
             let ppm = textures(filename).map_err(|error| ErrorKind::Texture {
                 file: Snippet::new(filename.as_bytes()),

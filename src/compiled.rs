@@ -279,7 +279,7 @@ pub(crate) fn write_material<S: Scalar>(out: &mut Writer<'_>, m: &Material<S>) {
     out.text(m.name());
     out.vec3(m.ambient);
     out.vec3(m.diffuse);
-    out.number(m.specular);
+    out.vec3(m.specular);
     out.number(m.shininess);
     out.number(m.transparency);
     out.vec3(m.filter);
@@ -290,7 +290,7 @@ pub(crate) fn read_material<S: Scalar>(input: &mut Reader<'_>) -> Result<Materia
         name: bounded(input.text()?)?,
         ambient: input.vec3(),
         diffuse: input.vec3(),
-        specular: input.number(),
+        specular: input.vec3(),
         shininess: input.number(),
         transparency: input.number(),
         filter: input.vec3(),

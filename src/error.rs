@@ -769,15 +769,15 @@ impl fmt::Display for ErrorKind {
                 found,
                 next,
             } => {
-                let s = if expected == 1 { "" } else { "s" };
-                write!(
-                    f,
-                    "`{attr}` takes {expected} number{s}, found {found} before {next}"
-                )
+                let takes = Takes { attr, expected };
+                write!(f, "`{attr}` takes {takes}, found {found} before {next}")
             }
             ErrorKind::ExtraValue { attr, expected } => {
-                let s = if expected == 1 { "" } else { "s" };
-                write!(f, "extra value: `{attr}` takes {expected} number{s}")
+                write!(
+                    f,
+                    "extra value: `{attr}` takes {}",
+                    Takes { attr, expected }
+                )
             }
             ErrorKind::NotANumber { attr, found } => {
                 write!(f, "expected a number for `{attr}`, found {found}")
@@ -906,6 +906,22 @@ impl fmt::Display for ErrorKind {
             ErrorKind::Compiled { offset, problem } => {
                 write!(f, "compiled scene, byte {offset}: {problem}")
             }
+        }
+    }
+}
+
+/// How many numbers an attribute takes: `specular` one for every channel or three.
+struct Takes {
+    attr: Attr,
+    expected: u8,
+}
+
+impl fmt::Display for Takes {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match (self.attr, self.expected) {
+            (Attr::Specular, _) => f.write_str("1 or 3 numbers"),
+            (_, 1) => f.write_str("1 number"),
+            (_, n) => write!(f, "{n} numbers"),
         }
     }
 }

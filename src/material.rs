@@ -21,8 +21,8 @@ pub struct MaterialDef<'a> {
     pub ambient: [f64; 3],
     /// Diffuse reflectivity (r, g, b).
     pub diffuse: [f64; 3],
-    /// Mirror reflectivity, 0 or more.
-    pub specular: f64,
+    /// Mirror reflectivity (r, g, b), each 0 or more: `specular k` in a file is `k k k`.
+    pub specular: [f64; 3],
     /// Glint exponent (Blinn-Phong), 0 for no glint.
     pub shininess: f64,
     /// Fraction of light passed through, 0 to 1.
@@ -36,7 +36,7 @@ impl<'a> MaterialDef<'a> {
             name,
             ambient: [0.0; 3],
             diffuse: [0.0; 3],
-            specular: 0.0,
+            specular: [0.0; 3],
             shininess: 0.0,
             transparency: 0.0,
         }
@@ -51,9 +51,14 @@ impl<'a> MaterialDef<'a> {
         self.diffuse = rgb;
         self
     }
-    /// With a mirror reflectivity.
+    /// With a mirror reflectivity, the same for every channel.
     pub const fn specular(mut self, k: f64) -> Self {
-        self.specular = k;
+        self.specular = [k; 3];
+        self
+    }
+    /// With a mirror reflectivity per channel (`specular r g b`).
+    pub const fn specular_rgb(mut self, rgb: [f64; 3]) -> Self {
+        self.specular = rgb;
         self
     }
     /// With a glint exponent.
@@ -76,8 +81,8 @@ pub struct Material<S> {
     pub ambient: Vec3<S>,
     /// Diffuse reflectivity.
     pub diffuse: Vec3<S>,
-    /// Mirror reflectivity.
-    pub specular: S,
+    /// Mirror reflectivity, per channel (also the weight of glints).
+    pub specular: Vec3<S>,
     /// Glint exponent.
     pub shininess: S,
     /// Fraction of light passed through.
@@ -93,10 +98,10 @@ impl<S: Scalar> Material<S> {
     pub(crate) fn build(def: &MaterialDef<'_>, scale: f64) -> Result<Self, ErrorKind> {
         let ambient = load_position::<S>(def.ambient, scale, Attr::Ambient)?;
         let diffuse = load3::<S>(def.diffuse, Attr::Diffuse)?;
-        let specular = load::<S>(def.specular, Attr::Specular)?;
+        let specular = load3::<S>(def.specular, Attr::Specular)?;
         let shininess = load::<S>(def.shininess, Attr::Shininess)?;
         let transparency = load::<S>(def.transparency, Attr::Transparency)?;
-        if def.specular < 0.0 {
+        if def.specular.iter().any(|&k| k < 0.0) {
             return Err(ErrorKind::OutOfRange {
                 attr: Attr::Specular,
                 range: Range::NonNegative,
@@ -114,7 +119,7 @@ impl<S: Scalar> Material<S> {
                 range: Range::ZeroToOne,
             });
         }
-        if def.specular != 0.0 {
+        if def.specular != [0.0; 3] {
             Feature::Reflection.require(Some(Attr::Specular))?;
         }
         if def.shininess != 0.0 {
@@ -157,8 +162,14 @@ impl<S: Scalar> Material<S> {
         print::header(out, "material", &self.name)?;
         print::vector(out, Attr::Ambient, self.ambient, scale)?;
         print::vector(out, Attr::Diffuse, self.diffuse, 1.0)?;
+        // One number when the channels agree, as the course's first scenes write it.
+        let k = self.specular;
+        if k.x != k.y || k.x != k.z {
+            print::vector(out, Attr::Specular, k, 1.0)?;
+        } else if k.x != S::ZERO {
+            print::numbers(out, Attr::Specular, &[k.x], 1.0)?;
+        }
         for (attr, value) in [
-            (Attr::Specular, self.specular),
             (Attr::Shininess, self.shininess),
             (Attr::Transparency, self.transparency),
         ] {

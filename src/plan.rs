@@ -150,7 +150,7 @@ impl<const OBJECTS: usize> Plan<OBJECTS> {
             // An object never shadows itself (shadow rays skip the object they leave).
             shadows: !lights.is_empty() && plan.kept.len() >= 2,
             filtered_shadows: transparency,
-            reflection: used(&|m| m.specular != S::ZERO),
+            reflection: used(&|m| m.specular != Vec3::ZERO),
             transparency,
             glints: !lights.is_empty() && used(&|m| m.shininess != S::ZERO),
         };
@@ -256,7 +256,7 @@ fn cross(a: [f64; 2], b: [f64; 2]) -> f64 {
 }
 
 fn length(a: [f64; 2]) -> f64 {
-    libm::sqrt(a[0] * a[0] + a[1] * a[1])
+    crate::scalar::sqrt_f64(a[0] * a[0] + a[1] * a[1])
 }
 
 /// `a` turned by the angle whose cosine and sine are given (anticlockwise for `sin > 0`).
@@ -371,7 +371,7 @@ impl View {
         }
         // The tangents are c turned by the half angle a, sin a = r / distance, then widened.
         let sin = r / distance;
-        let (sin, cos) = widened(sin, libm::sqrt(1.0 - sin * sin));
+        let (sin, cos) = widened(sin, crate::scalar::sqrt_f64(1.0 - sin * sin));
         if !(cos > 0.0) {
             return Heights::ALL;
         }
@@ -409,7 +409,7 @@ impl View {
         if !spans_all || cross(low, high) < 0.0 {
             return Heights::ALL;
         }
-        let (sin, cos) = widened(blur_sin, libm::sqrt(1.0 - blur_sin * blur_sin));
+        let (sin, cos) = widened(blur_sin, crate::scalar::sqrt_f64(1.0 - blur_sin * blur_sin));
         self.arc(turn(low, cos, -sin), turn(high, cos, sin))
     }
 

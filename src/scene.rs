@@ -83,7 +83,7 @@ pub const DEFAULT_MAX_WIDTH: usize = 1024;
 /// | part | bytes |
 /// |---|---|
 /// | an object slot | 176 |
-/// | a material slot | 84 |
+/// | a material slot | 92 |
 /// | a light slot | 108 |
 /// | a texture slot | 180 (the pixels stay where the bytes are: flash) |
 /// | the rest of the scene (camera, scale) | about 90 |
@@ -256,6 +256,24 @@ impl<
         self.textures
             .push(texture)
             .map_err(|_| capacity_error(Collection::Textures, TEXTURES))
+    }
+
+    /// Adds a texture whose PPM bytes `textures` finds by file name (the parser's way).
+    pub(crate) fn add_texture_file(
+        &mut self,
+        name: &str,
+        filename: &str,
+        textures: &mut impl FnMut(&str) -> Result<&'t [u8], TextureError>,
+    ) -> Result<(), ErrorKind> {
+        let ppm = textures(filename).map_err(|error| ErrorKind::Texture {
+            file: Snippet::new(filename.as_bytes()),
+            error,
+        })?;
+        self.add_texture(&TextureDef {
+            name,
+            filename,
+            ppm,
+        })
     }
 
     /// Adds an object; the materials and texture it names must already be there.
@@ -443,15 +461,7 @@ impl<
         }
         for _ in 0..textures_in_scene {
             let (name, filename) = (input.text()?, input.text()?);
-            let ppm = textures(filename).map_err(|error| ErrorKind::Texture {
-                file: Snippet::new(filename.as_bytes()),
-                error,
-            })?;
-            self.add_texture(&TextureDef {
-                name,
-                filename,
-                ppm,
-            })?;
+            self.add_texture_file(name, filename, &mut textures)?;
         }
         for _ in 0..input.u16()? {
             let light = compiled::read_light(input)?;

@@ -99,7 +99,7 @@ impl Vec3<f64> {
     /// Load-time invariants (unit normals, plane axes) are computed with this in `f64` and only
     /// then converted to the scene's number type, so every type starts from the same rounding.
     pub fn unit_f64(self) -> Option<Self> {
-        let length = libm::sqrt(self.dot(self));
+        let length = crate::scalar::sqrt_f64(self.dot(self));
         if length > 0.0 && length.is_finite() {
             Some(Self::new(self.x / length, self.y / length, self.z / length))
         } else {

@@ -83,8 +83,8 @@ impl<S: Scalar> Rect<S> {
         // Parallel when the sine of the angle to the written normal is at rounding level:
         // the projection below would then be rounding noise, not a direction.
         let written = plane.normal.to_f64();
-        let sine = libm::sqrt(written.cross(x).dot(written.cross(x)))
-            / libm::sqrt(written.dot(written) * x.dot(x));
+        let sine = crate::scalar::sqrt_f64(written.cross(x).dot(written.cross(x)))
+            / crate::scalar::sqrt_f64(written.dot(written) * x.dot(x));
         if !(sine > 1e-12) {
             return Err(ErrorKind::XdirParallelToNormal);
         }

@@ -196,9 +196,12 @@ mod tests {
             )
         };
         // x = 0.5, z = -0.5: ix = floor(100000.5) = 100000, iy = floor(100000.5): even → alt.
-        assert_eq!(at(0.5, -0.5), (1, Vec3::new(0.5, 0.5, 0.5), 0.25));
+        assert_eq!(
+            at(0.5, -0.5),
+            (1, Vec3::new(0.5, 0.5, 0.5), Vec3::new(0.25, 0.25, 0.25))
+        );
         // One tile over in x: odd → own material.
-        assert_eq!(at(1.5, -0.5), (0, Vec3::new(1.0, 0.0, 0.0), 0.0));
+        assert_eq!(at(1.5, -0.5), (0, Vec3::new(1.0, 0.0, 0.0), Vec3::ZERO));
         // One tile over in z as well: even again.
         assert_eq!(at(1.5, -1.5).0, 1);
         // Negative coordinates floor, not truncate: x = -0.5 is tile 99999 (odd).

@@ -13,7 +13,6 @@ use crate::object::{ObjectDef, PlaneDef, RectDef, ShapeDef, SphereDef, TextureMo
 use crate::range::Extent;
 use crate::scalar::Scalar;
 use crate::scene::{Item, Scene};
-use crate::texture::TextureDef;
 use nom::branch::alt;
 use nom::bytes::complete::{tag, take_till, take_till1, take_while1};
 use nom::character::complete::char;
@@ -280,34 +279,21 @@ pub(super) fn parse_into<
                 && Feature::Texture.enabled()
                 && scene.find_texture(texname).is_none()
             {
-                let ppm = textures(texname).map_err(|error| match error {
-                    TextureError::NotFound => ErrorKind::UndefinedTexture {
-                        name: Snippet::new(texname.as_bytes()),
-                    },
-                    error => ErrorKind::Texture {
-                        file: Snippet::new(texname.as_bytes()),
-                        error,
-                    },
-                })?;
-                scene.add_texture(&TextureDef {
-                    name: texname,
-                    filename: texname,
-                    ppm,
-                })?;
+                scene
+                    .add_texture_file(texname, texname, &mut textures)
+                    .map_err(|e| match e {
+                        ErrorKind::Texture {
+                            error: TextureError::NotFound,
+                            ..
+                        } => ErrorKind::UndefinedTexture {
+                            name: Snippet::new(texname.as_bytes()),
+                        },
+                        e => e,
+                    })?;
             }
             scene.add_object(&def)
         }
-        Item::Texture { name, filename } => {
-            let ppm = textures(filename).map_err(|error| ErrorKind::Texture {
-                file: Snippet::new(filename.as_bytes()),
-                error,
-            })?;
-            scene.add_texture(&TextureDef {
-                name,
-                filename,
-                ppm,
-            })
-        }
+        Item::Texture { name, filename } => scene.add_texture_file(name, filename, &mut textures),
     })?;
     if cameras == 0 {
         return Err(Error::at(
@@ -424,6 +410,18 @@ fn parse_values<'i>(c: &mut Cursor<'i>, attr: Attr) -> Result<(Value<'i>, usize)
         }
         Values::Numbers(n) => (n, false),
         Values::Integers(n) => (n, true),
+        // Three when a second number follows the first.
+        Values::Channels => {
+            let second = c.peek()?.and_then(|t| {
+                let ahead = Cursor {
+                    text: c.text,
+                    rest: c.text.get(t.at + t.bytes.len()..).unwrap_or(&[]),
+                };
+                ahead.peek().ok().flatten()
+            });
+            let three = second.is_some_and(|t| parse_number(t.bytes).is_ok());
+            (if three { 3 } else { 1 }, false)
+        }
     };
     let mut values = [0.0; 3];
     let mut first_at = c.text.len();
@@ -483,6 +481,10 @@ fn parse_values<'i>(c: &mut Cursor<'i>, attr: Attr) -> Result<(Value<'i>, usize)
             ));
         }
     }
+    if count == 1 && values_of(attr) == Values::Channels {
+        // One number for every channel.
+        values = [values[0]; 3];
+    }
     Ok((Value::Numbers(values), first_at))
 }
 
@@ -514,9 +516,9 @@ fn to_item<'i>(block: &Block<'i>) -> Result<Item<'i>, ErrorKind> {
             )));
         }
         Entity::Material => {
-            let [specular, shininess, transparency] =
-                [Attr::Specular, Attr::Shininess, Attr::Transparency]
-                    .map(|a| block.numbers_or_zero::<1>(a)[0]);
+            let specular = block.numbers_or_zero::<3>(Attr::Specular);
+            let [shininess, transparency] =
+                [Attr::Shininess, Attr::Transparency].map(|a| block.numbers_or_zero::<1>(a)[0]);
             return Ok(Item::Material(MaterialDef {
                 name,
                 ambient: block.numbers_or_zero(Attr::Ambient),

@@ -97,6 +97,8 @@ pub const fn attributes_of(entity: Entity) -> &'static [Attr] {
 pub(crate) enum Values {
     /// This many decimal numbers.
     Numbers(u8),
+    /// One decimal number for every channel, or three (r, g, b).
+    Channels,
     /// This many whole numbers.
     Integers(u8),
     /// One name (of a material or texture) or file name.
@@ -109,7 +111,8 @@ pub(crate) const fn values_of(attr: Attr) -> Values {
         Pixeldim => Values::Integers(2),
         Mode => Values::Integers(1),
         Worlddim | Dimensions => Values::Numbers(2),
-        Specular | Shininess | Transparency | Theta | Radius => Values::Numbers(1),
+        Specular => Values::Channels,
+        Shininess | Transparency | Theta | Radius => Values::Numbers(1),
         Viewpoint | Ambient | Diffuse | Location | Emissivity | Point | Normal | Center | Xdir => {
             Values::Numbers(3)
         }

@@ -261,6 +261,70 @@ pub trait Scalar:
     }
 }
 
+/// The square root of an `f64`, correctly rounded (as `libm::sqrt`, bit for bit): libm's
+/// where the target has an `f64` square root instruction, else [`sqrt_by_digits`], which
+/// takes a third of the flash of libm's table-driven version on a Cortex-M0 (where the loader
+/// is its only user).
+#[inline]
+pub(crate) fn sqrt_f64(x: f64) -> f64 {
+    if cfg!(any(target_arch = "x86_64", target_arch = "aarch64")) {
+        libm::sqrt(x)
+    } else {
+        sqrt_by_digits(x)
+    }
+}
+
+/// The correctly rounded square root, two bits of the radicand at a time in integers: the
+/// mantissa `m` (made even-exponent, `2^52 <= m < 2^54`) times `2^52` has a 53-bit root `r`
+/// and remainder `rem`; the root is rounded up when `rem > r` (the exact root is then at
+/// least `r + 1/2`; it is never exactly that). Out of line: it is for loading, and each
+/// inlined copy would cost flash.
+#[inline(never)]
+pub(crate) fn sqrt_by_digits(x: f64) -> f64 {
+    if x.is_nan() || x < 0.0 {
+        return f64::NAN;
+    }
+    if x == 0.0 || x == f64::INFINITY {
+        return x;
+    }
+    let bits = x.to_bits();
+    let field = (bits >> 52) as i32;
+    let (mut m, mut e) = if field == 0 {
+        (bits, -1074)
+    } else {
+        (bits & ((1 << 52) - 1) | 1 << 52, field - 1075)
+    };
+    while m < 1 << 52 {
+        m <<= 1;
+        e -= 1;
+    }
+    if e % 2 != 0 {
+        m <<= 1;
+        e -= 1;
+    }
+    // The radicand m * 2^52 has 106 bits: 53 pairs, the low 26 all zero.
+    let (mut root, mut rem) = (0u64, 0u64);
+    for pair in (0..53).rev() {
+        let shift = 2 * pair - 52;
+        let digits = if shift >= 0 { (m >> shift) & 3 } else { 0 };
+        rem = (rem << 2) | digits;
+        let trial = (root << 2) | 1;
+        root <<= 1;
+        if rem >= trial {
+            rem -= trial;
+            root |= 1;
+        }
+    }
+    if rem > root {
+        root += 1;
+    }
+    // root in [2^52, 2^53]: its leading bit adds one to the exponent field (and a carry to
+    // 2^53 one more, as it should).
+    let half = (e - 52) / 2;
+    let field = (half + 52 + 1023 - 1) as u64;
+    f64::from_bits((field << 52) + root)
+}
+
 impl Scalar for f64 {
     const NAME: &'static str = "f64";
     const CODE: u8 = 1;
@@ -328,7 +392,7 @@ impl Scalar for f64 {
     }
     #[inline]
     fn sqrt(self) -> Self {
-        if self > 0.0 { libm::sqrt(self) } else { 0.0 }
+        if self > 0.0 { sqrt_f64(self) } else { 0.0 }
     }
     #[inline]
     fn pow_positive(self, exponent: Self) -> Self {
@@ -701,6 +765,53 @@ pub(crate) fn write_shortest_float<T: fmt::Display + fmt::LowerExp>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn sqrt_by_digits_is_libm_sqrt() {
+        let check = |x: f64| {
+            let (ours, libm) = (sqrt_by_digits(x), libm::sqrt(x));
+            assert!(
+                ours.to_bits() == libm.to_bits() || (ours.is_nan() && libm.is_nan()),
+                "{x:e}: {ours:e} {libm:e}"
+            );
+        };
+        // Random bit patterns: every exponent, subnormals, negatives and NaNs among them.
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        for _ in 0..1_000_000 {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            check(f64::from_bits(seed));
+            check(f64::from_bits(seed >> 12));
+        }
+        // Squares of integers and their neighbours (exact roots, and roots just off them),
+        // and the special values.
+        for n in 1..100_000u64 {
+            let square = (n * n) as f64;
+            for x in [
+                square,
+                f64::from_bits(square.to_bits() - 1),
+                f64::from_bits(square.to_bits() + 1),
+            ] {
+                check(x);
+            }
+        }
+        for x in [
+            0.0,
+            -0.0,
+            1.0,
+            2.0,
+            f64::MIN_POSITIVE,
+            5e-324,
+            f64::MAX,
+            f64::INFINITY,
+            -1.0,
+            f64::NAN,
+        ] {
+            check(x);
+        }
+        assert_eq!(sqrt_by_digits(-0.0).to_bits(), (-0.0f64).to_bits());
+    }
 
     fn shortest<S: Scalar>(v: S) -> std::string::String {
         let mut s = std::string::String::new();

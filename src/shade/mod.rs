@@ -269,9 +269,10 @@ impl<'s, S: Scalar> Shader<'s, S> {
     ) -> Vec3<S> {
         // `cfg!`: a build without the feature has no such materials (they fail to load), and
         // the compiler drops the code.
-        if cfg!(feature = "reflection") && self.stages.reflection && material.specular != S::ZERO {
+        if cfg!(feature = "reflection") && self.stages.reflection && material.specular != Vec3::ZERO
+        {
             let reflected = Ray::with_length(hit.point, reflect(ray.dir, hit.normal), onward.len);
-            c = c + self.follow(&reflected, onward) * material.specular;
+            c = c + self.follow(&reflected, onward).mul_each(material.specular);
         }
         self.through(c, ray, hit, material, onward)
     }
@@ -337,7 +338,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         hit: &Hit<S>,
         eye: Vec3<S>,
         diffuse: Vec3<S>,
-        specular: S,
+        specular: Vec3<S>,
         shininess: S,
     ) -> Vec3<S> {
         let to_light = light.location - hit.point;
@@ -375,7 +376,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
         if cfg!(feature = "glint") && self.stages.glints && shininess != S::ZERO {
             let halfway = (eye - hit.point).unit().and_then(|v| (v + l).unit());
             if let Some(h) = halfway {
-                c = c + light.emissivity * specular * h.dot(hit.normal).pow_positive(shininess);
+                let glint = light.emissivity.mul_each(specular);
+                c = c + glint * h.dot(hit.normal).pow_positive(shininess);
             }
         }
         c
@@ -547,7 +549,10 @@ fn glint<S: Scalar>(
         .and_then(|l| (-dir).unit().and_then(|v| (v + l).unit()));
     let power = halfway.and_then(|h| h.dot(normal).pow_wide(material.shininess));
     match power {
-        Some(power) => scaled(light.emissivity * material.specular, S::wide_mul(power, k)),
+        Some(power) => scaled(
+            light.emissivity.mul_each(material.specular),
+            S::wide_mul(power, k),
+        ),
         None => Vec3::ZERO,
     }
 }

@@ -165,7 +165,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
             };
             let mirrors = cfg!(feature = "reflection")
                 && self.stages.reflection
-                && material.specular != S::ZERO;
+                && material.specular != Vec3::ZERO;
             if !mirrors {
                 // Cannot fail: a level is added only below the capacity.
                 levels.push(level).ok()?;
@@ -335,7 +335,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 Mirror::Level => self.deeper_level(deeper, &reflected, total, depth + 1),
                 _ => Vec3::ZERO,
             };
-            c = c + seen * material.specular;
+            c = c + seen.mul_each(material.specular);
         }
         if cfg!(feature = "transparency") && level.transparent {
             c = self.through(c, ray, &hit, material, &onward);

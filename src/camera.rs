@@ -110,11 +110,11 @@ impl<S: Scalar> Positions<S> {
                 positions.step = world.mul_ratio(1, n);
                 positions.value = world.mul_ratio(first, n);
                 positions.bump = S::from_raw(1);
-                let steps = |v: S| signed_raw(v);
                 // Within 0..n for every window the loaders accept; clamped there for any
                 // other, so that the sums in `next_position` cannot overflow.
                 let remainder = |count: u16, value: S| {
-                    let exact = steps(world) * i64::from(count) - steps(value) * i64::from(n);
+                    let exact =
+                        signed_raw(world) * i64::from(count) - signed_raw(value) * i64::from(n);
                     exact.clamp(0, i64::from(n) - 1) as u32
                 };
                 positions.remainder_step = remainder(1, positions.step);

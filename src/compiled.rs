@@ -142,7 +142,8 @@ impl<'b> Reader<'b> {
     }
     /// A number. Past the end it reads as zero and the reader remembers where, which
     /// [`checked`](Self::checked) reports: scenes are mostly numbers, and one check at the
-    /// end instead of one at each saves flash. (No value is used before that check.)
+    /// end instead of one at each saves flash. (No value is used before that check. Not
+    /// through `take`, whose error, built and dropped here, costs 60 B of a Cortex-M0's.)
     pub(crate) fn number<S: Scalar>(&mut self) -> S {
         let mut raw = [0; 8];
         let end = self.at.checked_add(S::RAW_BYTES);

@@ -224,9 +224,7 @@ impl<
             return Err(capacity_error(Collection::Materials, MATERIALS));
         }
         let material = Material::build(def, self.scale)?;
-        self.materials
-            .push(material)
-            .map_err(|_| capacity_error(Collection::Materials, MATERIALS))
+        push(&mut self.materials, material, Collection::Materials)
     }
 
     /// Adds a light or spotlight.
@@ -235,9 +233,7 @@ impl<
             return Err(capacity_error(Collection::Lights, LIGHTS));
         }
         let light = Light::build(def, self.scale)?;
-        self.lights
-            .push(light)
-            .map_err(|_| capacity_error(Collection::Lights, LIGHTS))
+        push(&mut self.lights, light, Collection::Lights)
     }
 
     /// Adds a texture, decoding its PPM bytes; its name must be new.
@@ -253,9 +249,7 @@ impl<
             return Err(capacity_error(Collection::Textures, TEXTURES));
         }
         let texture = Texture::build(def)?;
-        self.textures
-            .push(texture)
-            .map_err(|_| capacity_error(Collection::Textures, TEXTURES))
+        push(&mut self.textures, texture, Collection::Textures)
     }
 
     /// Adds a texture whose PPM bytes `textures` finds by file name (the parser's way).
@@ -288,9 +282,7 @@ impl<
             |n| self.find_texture(n),
             self.scale,
         )?;
-        self.objects
-            .push(object)
-            .map_err(|_| capacity_error(Collection::Objects, OBJECTS))
+        push(&mut self.objects, object, Collection::Objects)
     }
 
     fn find_material(&self, name: &str) -> Option<MaterialId> {
@@ -392,8 +384,9 @@ impl<
     pub fn write_compiled(&self, sink: &mut dyn FnMut(&[u8])) {
         let mut out = compiled::Writer::new(sink);
         compiled::write_header::<S>(&mut out, self.scale);
-        out.number(self.limits().z);
-        out.number(self.limits().distance);
+        let limits = self.limits();
+        out.number(limits.z);
+        out.number(limits.distance);
         compiled::write_camera(&mut out, &self.camera);
         out.count(self.materials.len());
         for material in &self.materials {

@@ -413,10 +413,11 @@ fn parse_values<'i>(c: &mut Cursor<'i>, attr: Attr) -> Result<(Value<'i>, usize)
         // Three when a second number follows the first.
         Values::Channels => {
             let second = c.peek()?.and_then(|t| {
-                let ahead = Cursor {
+                let mut ahead = Cursor {
                     text: c.text,
-                    rest: c.text.get(t.at + t.bytes.len()..).unwrap_or(&[]),
+                    rest: c.rest,
                 };
+                ahead.advance(t);
                 ahead.peek().ok().flatten()
             });
             let three = second.is_some_and(|t| parse_number(t.bytes).is_ok());

@@ -70,6 +70,11 @@ fn bounds<S: Scalar>(object: &Object<S>) -> Option<(Vec3<f64>, Vec3<f64>)> {
             let reach = Vec3::new(r, r, r);
             return Some((c - reach, c + reach));
         }
+        Shape::RevSurf(s) => {
+            let (c, r) = (s.center.to_f64(), s.bound.to_f64());
+            let reach = Vec3::new(r, r, r);
+            return Some((c - reach, c + reach));
+        }
         Shape::FPlane(rect) => rect,
         Shape::TexPlane(textured) => &textured.rect,
         Shape::Plane(_) | Shape::TiledPlane(_) => return None,

@@ -20,14 +20,16 @@ use crate::light::{Light, Spot};
 use crate::material::{Material, MaterialId};
 use crate::name::bounded;
 use crate::object::plane::plane_object;
-use crate::object::{Object, Plane, Rect, Shape, Sphere, TexPlane, TextureMode, TiledPlane};
+use crate::object::{
+    Object, Plane, Rect, RevSurf, Shape, Sphere, Surfer, TexPlane, TextureMode, TiledPlane,
+};
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;
 
 /// The first bytes of a compiled scene.
 pub const MAGIC: [u8; 4] = *b"mray";
 /// The layout's version, after the magic bytes.
-pub const VERSION: u8 = 1;
+pub const VERSION: u8 = 2;
 
 /// What is wrong with a compiled scene.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -313,9 +315,40 @@ pub(crate) fn write_light<S: Scalar>(out: &mut Writer<'_>, light: &Light<S>) {
             out.number(spot.cos_theta);
         }
     }
+    match &light.slide {
+        None => out.byte(0),
+        Some(slide) => {
+            out.byte(1);
+            write_slide(out, slide);
+        }
+    }
 }
 
-pub(crate) fn read_light<S: Scalar>(input: &mut Reader<'_>) -> Result<Light<S>, ErrorKind> {
+fn write_slide<S: Scalar>(out: &mut Writer<'_>, t: &TexPlane<S>) {
+    write_rect(out, &t.rect);
+    out.u16(t.texture);
+    out.byte(t.mode as u8);
+}
+
+/// A texplane's or projector's textured rectangle, its texture index checked.
+fn read_slide<S: Scalar>(
+    input: &mut Reader<'_>,
+    textures: usize,
+) -> Result<TexPlane<S>, ErrorKind> {
+    Ok(TexPlane {
+        rect: read_rect(input)?,
+        texture: input.index(textures)?,
+        mode: match input.choice(2)? {
+            0 => TextureMode::Fit,
+            _ => TextureMode::Tile,
+        },
+    })
+}
+
+pub(crate) fn read_light<S: Scalar>(
+    input: &mut Reader<'_>,
+    textures: usize,
+) -> Result<Light<S>, ErrorKind> {
     let name = bounded(input.text()?)?;
     let (location, emissivity, diffuse_emissivity) = (input.vec3(), input.vec3(), input.vec3());
     let spot = if input.flag()? {
@@ -329,12 +362,19 @@ pub(crate) fn read_light<S: Scalar>(input: &mut Reader<'_>) -> Result<Light<S>, 
     } else {
         None
     };
+    let slide = if input.flag()? {
+        Feature::Projector.require(None)?;
+        Some(read_slide(input, textures)?)
+    } else {
+        None
+    };
     Ok(Light {
         name,
         location,
         emissivity,
         diffuse_emissivity,
         spot,
+        slide,
     })
 }
 
@@ -344,6 +384,7 @@ const SPHERE: u8 = 1;
 const FPLANE: u8 = 2;
 const TILED_PLANE: u8 = 3;
 const TEX_PLANE: u8 = 4;
+const REV_SURF: u8 = 5;
 
 fn write_plane<S: Scalar>(out: &mut Writer<'_>, p: &Plane<S>) {
     out.vec3(p.normal);
@@ -421,9 +462,19 @@ pub(crate) fn write_object<S: Scalar>(out: &mut Writer<'_>, object: &Object<S>) 
         }
         Shape::TexPlane(t) => {
             out.byte(TEX_PLANE);
-            write_rect(out, &t.rect);
-            out.u16(t.texture);
-            out.byte(t.mode as u8);
+            write_slide(out, t);
+        }
+        Shape::RevSurf(r) => {
+            out.byte(REV_SURF);
+            out.byte(r.surfer as u8 - 1);
+            for v in [r.base, r.direction, r.axis] {
+                out.vec3(v);
+            }
+            for n in [r.height, r.scale, r.unscale, r.reach, r.steepest] {
+                out.number(n);
+            }
+            out.vec3(r.center);
+            out.number(r.bound);
         }
     }
 }
@@ -474,15 +525,30 @@ pub(crate) fn read_object<S: Scalar>(
         }
         TEX_PLANE => {
             Feature::Texture.require(None)?;
-            let textured = TexPlane {
-                rect: read_rect(input)?,
-                texture: input.index(textures)?,
-                mode: match input.choice(2)? {
-                    0 => TextureMode::Fit,
-                    _ => TextureMode::Tile,
-                },
-            };
+            let textured = read_slide(input, textures)?;
             Object::init(&TexPlane::VTABLE, name, material, Shape::TexPlane(textured))
+        }
+        REV_SURF => {
+            Feature::RevSurf.require(None)?;
+            let surfer = match input.choice(3)? {
+                0 => Surfer::Cone,
+                1 => Surfer::Waist,
+                _ => Surfer::Vase,
+            };
+            let surface = RevSurf {
+                surfer,
+                base: input.vec3(),
+                direction: input.vec3(),
+                axis: input.vec3(),
+                height: input.number(),
+                scale: input.number(),
+                unscale: input.number(),
+                reach: input.number(),
+                steepest: input.number(),
+                center: input.vec3(),
+                bound: input.number(),
+            };
+            Object::init(&RevSurf::VTABLE, name, material, Shape::RevSurf(surface))
         }
         _ => Err(Reader::error_at(at, CompiledError::BadValue)),
     }

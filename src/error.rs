@@ -102,6 +102,8 @@ pub enum Entity {
     TiledPlane,
     Texture,
     TexPlane,
+    Projector,
+    RevSurf,
 }
 
 /// A cargo feature a scene can need: object kinds and shading stages beyond planes,
@@ -116,6 +118,10 @@ pub enum Feature {
     Texture,
     /// Spotlights.
     Spotlight,
+    /// Projectors (`projector`).
+    Projector,
+    /// Surfaces of revolution (`revsurf`).
+    RevSurf,
     /// Mirror reflection: a material's `specular`.
     Reflection,
     /// Transparency: a material's `transparency`.
@@ -132,6 +138,8 @@ impl Feature {
             Feature::TiledPlane => "tiled-plane",
             Feature::Texture => "texture",
             Feature::Spotlight => "spotlight",
+            Feature::Projector => "projector",
+            Feature::RevSurf => "revsurf",
             Feature::Reflection => "reflection",
             Feature::Transparency => "transparency",
             Feature::Glint => "glint",
@@ -145,6 +153,8 @@ impl Feature {
             Feature::TiledPlane => "tiled planes (`tiled_plane`)",
             Feature::Texture => "textures (`texture`, `texplane`)",
             Feature::Spotlight => "spotlights",
+            Feature::Projector => "projectors (`projector`)",
+            Feature::RevSurf => "surfaces of revolution (`revsurf`)",
             Feature::Reflection => "mirror reflection (`specular`)",
             Feature::Transparency => "transparency (`transparency`)",
             Feature::Glint => "glints (`shininess`)",
@@ -159,6 +169,8 @@ impl Feature {
             Feature::TiledPlane => cfg!(feature = "tiled-plane"),
             Feature::Texture => cfg!(feature = "texture"),
             Feature::Spotlight => cfg!(feature = "spotlight"),
+            Feature::Projector => cfg!(feature = "projector"),
+            Feature::RevSurf => cfg!(feature = "revsurf"),
             Feature::Reflection => cfg!(feature = "reflection"),
             Feature::Transparency => cfg!(feature = "transparency"),
             Feature::Glint => cfg!(feature = "glint"),
@@ -193,11 +205,15 @@ impl Entity {
             Entity::TiledPlane => &[Material, Normal, Point, Xdir, Dimensions, Altmaterial],
             Entity::Texture => &[Filename],
             Entity::TexPlane => &[Material, Normal, Point, Xdir, Dimensions, Texname, Mode],
+            Entity::Projector => &[
+                Location, Emissivity, Normal, Point, Xdir, Dimensions, Texname, Mode,
+            ],
+            Entity::RevSurf => &[Material, Surfer, Base, Direction, Height],
         }
     }
 
     /// Every entity, in the order the error messages list them.
-    pub const ALL: [Entity; 10] = [
+    pub const ALL: [Entity; 12] = [
         Entity::Camera,
         Entity::Material,
         Entity::Light,
@@ -208,6 +224,8 @@ impl Entity {
         Entity::TiledPlane,
         Entity::Texture,
         Entity::TexPlane,
+        Entity::Projector,
+        Entity::RevSurf,
     ];
 
     /// The keyword that starts the block.
@@ -223,6 +241,8 @@ impl Entity {
             Entity::TiledPlane => "tiled_plane",
             Entity::Texture => "texture",
             Entity::TexPlane => "texplane",
+            Entity::Projector => "projector",
+            Entity::RevSurf => "revsurf",
         }
     }
 }
@@ -259,11 +279,15 @@ pub enum Attr {
     Filename,
     Texname,
     Mode,
+    Surfer,
+    Base,
+    Direction,
+    Height,
 }
 
 impl Attr {
     /// The number of attributes.
-    pub const COUNT: usize = 22;
+    pub const COUNT: usize = 26;
 
     /// The attribute's keyword.
     pub const fn keyword(self) -> &'static str {
@@ -290,6 +314,10 @@ impl Attr {
             Attr::Filename => "filename",
             Attr::Texname => "texname",
             Attr::Mode => "mode",
+            Attr::Surfer => "surfer",
+            Attr::Base => "base",
+            Attr::Direction => "direction",
+            Attr::Height => "height",
         }
     }
 }
@@ -332,6 +360,8 @@ pub enum Range {
     HalfTurn,
     /// `0` or `1`.
     ZeroOrOne,
+    /// `1`, `2` or `3` (the surfaces of revolution's profiles).
+    Surfer,
 }
 
 impl fmt::Display for Range {
@@ -341,6 +371,7 @@ impl fmt::Display for Range {
             Range::NonNegative => "0 or more",
             Range::HalfTurn => "between 0 and 180 degrees",
             Range::ZeroOrOne => "0 or 1",
+            Range::Surfer => "1, 2 or 3",
         })
     }
 }

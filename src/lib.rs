@@ -107,9 +107,9 @@ pub mod host;
 
 pub use camera::{Camera, CameraDef};
 pub use error::{Error, ErrorKind, Position};
-pub use light::{Light, LightDef};
+pub use light::{Light, LightDef, SlideDef};
 pub use material::{Material, MaterialDef};
-pub use object::{Hit, Object, ObjectDef, ObjectVTable};
+pub use object::{Hit, Object, ObjectDef, ObjectVTable, RectDef, TextureMode};
 pub use ray::Ray;
 pub use scalar::Scalar;
 pub use scene::Scene;

@@ -1,7 +1,8 @@
-//! Lights: point lights and spotlights.
+//! Lights: point lights, spotlights and projectors.
 
-use crate::error::{Attr, ErrorKind, Feature, Range};
+use crate::error::{Attr, ErrorKind, Feature, Range, Snippet};
 use crate::name::{Name, bounded};
+use crate::object::{Rect, RectDef, TexPlane, TextureMode};
 #[cfg(feature = "print")]
 use crate::print;
 use crate::scalar::{Scalar, load, load_position};
@@ -18,6 +19,18 @@ pub struct SpotDef {
     pub theta: f64,
 }
 
+/// A projector's slide as written: a rectangle laid out as a `texplane`'s, the texture
+/// it shows and how.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SlideDef<'a> {
+    /// The rectangle.
+    pub rect: RectDef,
+    /// The name of the texture (a `texture` block, or an image file).
+    pub texname: &'a str,
+    /// How the texture is laid on the rectangle.
+    pub mode: TextureMode,
+}
+
 /// A light as written.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LightDef<'a> {
@@ -29,6 +42,8 @@ pub struct LightDef<'a> {
     pub emissivity: [f64; 3],
     /// The cone, for a spotlight.
     pub spot: Option<SpotDef>,
+    /// The slide, for a projector.
+    pub slide: Option<SlideDef<'a>>,
 }
 
 impl<'a> LightDef<'a> {
@@ -39,6 +54,39 @@ impl<'a> LightDef<'a> {
             location,
             emissivity,
             spot: None,
+            slide: None,
+        }
+    }
+
+    /// A projector: a light at `location` that reaches only what it sees through the
+    /// slide, each point in the colour of the slide's texel there (times `emissivity`).
+    ///
+    /// ```
+    /// use microray::{LightDef, RectDef, TextureMode};
+    ///
+    /// // proj1's: a 4 x 3 slide 2 units in front of the lamp, the image stretched over it.
+    /// let slide = RectDef::new([0.0, 0.0, 1.0], [2.0, 1.5, 0.0], [1.0, 0.0, 0.0], [4.0, 3.0]);
+    /// let front = LightDef::projector("front", [4.0, 3.0, 2.0], [6.0; 3], slide, "mike", TextureMode::Fit);
+    /// assert!(front.slide.is_some());
+    /// ```
+    pub const fn projector(
+        name: &'a str,
+        location: [f64; 3],
+        emissivity: [f64; 3],
+        rect: RectDef,
+        texname: &'a str,
+        mode: TextureMode,
+    ) -> Self {
+        Self {
+            name,
+            location,
+            emissivity,
+            spot: None,
+            slide: Some(SlideDef {
+                rect,
+                texname,
+                mode,
+            }),
         }
     }
 
@@ -55,6 +103,7 @@ impl<'a> LightDef<'a> {
             location,
             emissivity,
             spot: Some(SpotDef { point, theta }),
+            slide: None,
         }
     }
 }
@@ -86,12 +135,19 @@ pub struct Light<S> {
     pub diffuse_emissivity: Vec3<S>,
     /// The cone, for a spotlight.
     pub spot: Option<Spot<S>>,
+    /// The slide, for a projector: a textured rectangle the light shines through (a
+    /// `texplane` that is not an object).
+    pub slide: Option<TexPlane<S>>,
 }
 
 impl<S: Scalar> Light<S> {
-    /// Checks a definition.
-    /// Checks a definition, with the scene's scale.
-    pub(crate) fn build(def: &LightDef<'_>, scale: f64) -> Result<Self, ErrorKind> {
+    /// Checks a definition, with the scene's scale; `find_texture` gives a projector's
+    /// texture by name.
+    pub(crate) fn build(
+        def: &LightDef<'_>,
+        scale: f64,
+        find_texture: impl Fn(&str) -> Option<u16>,
+    ) -> Result<Self, ErrorKind> {
         let location = load_position::<S>(def.location, scale, Attr::Location)?;
         let emissivity = load_position::<S>(def.emissivity, scale, Attr::Emissivity)?;
         let diffuse_emissivity =
@@ -120,12 +176,28 @@ impl<S: Scalar> Light<S> {
                 })
             }
         };
+        let slide = match &def.slide {
+            None => None,
+            Some(slide) => {
+                Feature::Projector.require(None)?;
+                let texture =
+                    find_texture(slide.texname).ok_or_else(|| ErrorKind::UndefinedTexture {
+                        name: Snippet::new(slide.texname.as_bytes()),
+                    })?;
+                Some(TexPlane {
+                    rect: Rect::build(&slide.rect, scale)?,
+                    texture,
+                    mode: slide.mode,
+                })
+            }
+        };
         Ok(Self {
             name: bounded(def.name)?,
             location,
             emissivity,
             diffuse_emissivity,
             spot,
+            slide,
         })
     }
 
@@ -134,10 +206,18 @@ impl<S: Scalar> Light<S> {
         &self.name
     }
 
-    /// Writes the light or spotlight block.
+    /// Writes the light, spotlight or projector block; `textures` are the scene's (for a
+    /// projector's texture name).
     #[cfg(feature = "print")]
-    pub fn print(&self, out: &mut dyn fmt::Write, scale: f64) -> fmt::Result {
-        let keyword = if self.spot.is_some() {
+    pub fn print(
+        &self,
+        out: &mut dyn fmt::Write,
+        scale: f64,
+        textures: &[crate::texture::Texture<'_>],
+    ) -> fmt::Result {
+        let keyword = if self.slide.is_some() {
+            "projector"
+        } else if self.spot.is_some() {
             "spotlight"
         } else {
             "light"
@@ -148,6 +228,14 @@ impl<S: Scalar> Light<S> {
         if let Some(spot) = &self.spot {
             print::vector(out, Attr::Point, spot.point, scale)?;
             print::numbers(out, Attr::Theta, &[spot.theta], 1.0)?;
+        }
+        if let Some(slide) = &self.slide {
+            slide.rect.print_attributes(out, scale)?;
+            let name = textures
+                .get(usize::from(slide.texture))
+                .map_or("", |t| t.name());
+            print::word(out, Attr::Texname, name)?;
+            writeln!(out, "  {} {}", Attr::Mode, slide.mode as u8)?;
         }
         print::footer(out)
     }
@@ -249,7 +337,7 @@ mod tests {
     #[test]
     fn spotlight_axis_and_cone() {
         let def = LightDef::spot("s", [0.0, 4.0, 0.0], [1.0; 3], [0.0, 0.0, 0.0], 60.0);
-        let light = Light::<f64>::build(&def, 1.0).unwrap();
+        let light = Light::<f64>::build(&def, 1.0, |_| None).unwrap();
         let spot = light.spot.unwrap();
         assert_eq!(spot.axis, Vec3::new(0.0, -1.0, 0.0));
         assert!((spot.cos_theta - 0.5).abs() < 1e-15);
@@ -286,12 +374,12 @@ mod tests {
     fn spotlight_aimed_at_itself_is_an_error() {
         let def = LightDef::spot("s", [1.0; 3], [1.0; 3], [1.0; 3], 10.0);
         assert_eq!(
-            Light::<f32>::build(&def, 1.0),
+            Light::<f32>::build(&def, 1.0, |_| None),
             Err(ErrorKind::ZeroVector { attr: Attr::Point })
         );
         let wide = LightDef::spot("s", [1.0; 3], [1.0; 3], [0.0; 3], 181.0);
         assert_eq!(
-            Light::<f32>::build(&wide, 1.0),
+            Light::<f32>::build(&wide, 1.0, |_| None),
             Err(ErrorKind::OutOfRange {
                 attr: Attr::Theta,
                 range: Range::HalfTurn

@@ -37,7 +37,7 @@ pub fn print_scene<
     }
     for light in scene.lights() {
         out.write_str("\n")?;
-        light.print(out, scale)?;
+        light.print(out, scale, scene.textures())?;
     }
     let palette = scene.palette();
     for object in scene.objects() {

@@ -89,6 +89,11 @@ impl Extent {
                 if let Some(spot) = &l.spot {
                     self.point(spot.point, 0.0);
                 }
+                if let Some(slide) = &l.slide {
+                    let r = &slide.rect;
+                    self.point(r.point, r.dimensions[0] + r.dimensions[1]);
+                    r.dimensions.iter().for_each(|&d| self.length(d));
+                }
             }
             Item::Material(m) => {
                 self.ambient = self.ambient.max(Self::brightest(m.ambient));
@@ -101,6 +106,12 @@ impl Extent {
                     self.point(s.center, s.radius);
                     self.length(s.radius);
                     self.radius = self.radius.max(s.radius);
+                }
+                ShapeDef::RevSurf(r) => {
+                    let reach = 4.0 + libm::fabs(r.height);
+                    self.point(r.base, reach);
+                    self.length(r.height);
+                    self.radius = self.radius.max(reach);
                 }
                 ShapeDef::FPlane(r) | ShapeDef::TiledPlane(r, _) | ShapeDef::TexPlane(r, _, _) => {
                     self.point(r.point, r.dimensions[0] + r.dimensions[1]);

@@ -227,12 +227,12 @@ impl<
         push(&mut self.materials, material, Collection::Materials)
     }
 
-    /// Adds a light or spotlight.
+    /// Adds a light, spotlight or projector (after the texture a projector names).
     pub fn add_light(&mut self, def: &LightDef<'_>) -> Result<(), ErrorKind> {
         if self.lights.is_full() {
             return Err(capacity_error(Collection::Lights, LIGHTS));
         }
-        let light = Light::build(def, self.scale)?;
+        let light = Light::build(def, self.scale, |n| self.find_texture(n))?;
         push(&mut self.lights, light, Collection::Lights)
     }
 
@@ -268,6 +268,31 @@ impl<
             filename,
             ppm,
         })
+    }
+
+    /// Makes sure a texture named `texname` is there: the later course scenes name an image
+    /// file directly (`texname FILE`), so a name that no texture block gave is read as a
+    /// file, once, as if a `texture FILE { filename FILE }` block came first. A name that
+    /// is neither is the undefined-texture error.
+    #[cfg(feature = "parser")]
+    pub(crate) fn add_texture_named(
+        &mut self,
+        texname: &str,
+        textures: &mut impl FnMut(&str) -> Result<&'t [u8], TextureError>,
+    ) -> Result<(), ErrorKind> {
+        if !Feature::Texture.enabled() || self.find_texture(texname).is_some() {
+            return Ok(());
+        }
+        self.add_texture_file(texname, texname, textures)
+            .map_err(|e| match e {
+                ErrorKind::Texture {
+                    error: TextureError::NotFound,
+                    ..
+                } => ErrorKind::UndefinedTexture {
+                    name: Snippet::new(texname.as_bytes()),
+                },
+                e => e,
+            })
     }
 
     /// Adds an object; the materials and texture it names must already be there.
@@ -351,6 +376,7 @@ impl<
         for def in textures {
             self.add_texture(def)?;
         }
+        // After the textures: a projector names one.
         for def in lights {
             self.add_light(def)?;
         }
@@ -457,7 +483,7 @@ impl<
             self.add_texture_file(name, filename, &mut textures)?;
         }
         for _ in 0..input.u16()? {
-            let light = compiled::read_light(input)?;
+            let light = compiled::read_light(input, self.textures.len())?;
             push(&mut self.lights, light, Collection::Lights)?;
         }
         for _ in 0..input.u16()? {

@@ -10,6 +10,7 @@
 
 pub mod fplane;
 pub mod plane;
+pub mod revsurf;
 pub mod sphere;
 pub mod texplane;
 pub mod tiled_plane;
@@ -31,6 +32,7 @@ use core::ops::ControlFlow;
 
 pub use fplane::{Rect, RectDef};
 pub use plane::{Plane, PlaneDef};
+pub use revsurf::{RevSurf, RevSurfDef, Surfer};
 pub use sphere::{Sphere, SphereDef};
 pub use texplane::{TexPlane, TextureMode};
 pub use tiled_plane::TiledPlane;
@@ -158,6 +160,8 @@ pub enum Shape<S> {
     TiledPlane(TiledPlane<S>),
     /// A textured rectangle.
     TexPlane(TexPlane<S>),
+    /// A surface of revolution.
+    RevSurf(RevSurf<S>),
 }
 
 /// An object of the scene: name, material, shape data and its kind's function table.
@@ -348,6 +352,20 @@ pub fn surface_of<'s, S: Scalar>(hit: Hit<S>, material: &'s Material<S>) -> Opti
 #[inline]
 pub(crate) fn ahead<S: Scalar>(t: S, limit: S) -> Option<S> {
     (t > S::ZERO && t < limit).then_some(t)
+}
+
+/// A ray's direction made a unit one with one wide reciprocal, and the reciprocal (which
+/// turns a unit ray's `t` back into the ray's): for fixed point, which has no range for
+/// the products of a long direction.
+#[inline]
+pub(crate) fn unit_direction<S: Scalar>(ray: &Ray<S>) -> Option<(Vec3<S>, S::Wide)> {
+    let inv = S::wide_recip(ray.length().to_wide()?);
+    let unit = Vec3::new(
+        ray.dir.x.scale(inv),
+        ray.dir.y.scale(inv),
+        ray.dir.z.scale(inv),
+    );
+    Some((unit, inv))
 }
 
 /// The nearest hit with `t > 0` among `objects`, skipping index `skip` (the object a ray
@@ -745,6 +763,8 @@ pub enum ShapeDef<'a> {
     TiledPlane(RectDef, &'a str),
     /// `texplane`, with the name of its texture and the mode.
     TexPlane(RectDef, &'a str, TextureMode),
+    /// `revsurf`.
+    RevSurf(RevSurfDef),
 }
 
 impl<'a> ObjectDef<'a> {
@@ -805,6 +825,36 @@ impl<'a> ObjectDef<'a> {
         }
     }
 
+    /// A surface of revolution: profile `surfer` about the axis from `base` along
+    /// `direction`, `height` long.
+    ///
+    /// ```
+    /// use microray::{ObjectDef, object::Surfer};
+    ///
+    /// // revsurfe's gold vase.
+    /// let vase = ObjectDef::revsurf("vase", "gold", Surfer::Vase, [2.0, 0.0, -4.0], [0.0, 1.0, 0.0], 6.28);
+    /// assert_eq!(vase.entity(), microray::error::Entity::RevSurf);
+    /// ```
+    pub const fn revsurf(
+        name: &'a str,
+        material: &'a str,
+        surfer: Surfer,
+        base: [f64; 3],
+        direction: [f64; 3],
+        height: f64,
+    ) -> Self {
+        Self {
+            name,
+            material,
+            shape: ShapeDef::RevSurf(RevSurfDef {
+                surfer,
+                base,
+                direction,
+                height,
+            }),
+        }
+    }
+
     /// The kind of object this defines.
     pub const fn entity(&self) -> Entity {
         match self.shape {
@@ -813,6 +863,7 @@ impl<'a> ObjectDef<'a> {
             ShapeDef::FPlane(_) => Entity::FPlane,
             ShapeDef::TiledPlane(..) => Entity::TiledPlane,
             ShapeDef::TexPlane(..) => Entity::TexPlane,
+            ShapeDef::RevSurf(_) => Entity::RevSurf,
         }
     }
 }
@@ -851,6 +902,10 @@ impl<S: Scalar> Object<S> {
                     name: Snippet::new(texname.as_bytes()),
                 })?;
                 texplane::texplane_init(def.name, material, r, texture, *mode, scale)
+            }
+            ShapeDef::RevSurf(r) => {
+                Feature::RevSurf.require(None)?;
+                revsurf::revsurf_init(def.name, material, r, scale)
             }
         }
     }

@@ -251,7 +251,7 @@ pub fn plane_normal<S: Scalar>(obj: &Object<S>, _: Vec3<S>) -> Vec3<S> {
         Shape::FPlane(rect) => rect.plane.unit_normal,
         Shape::TiledPlane(tiled) => tiled.rect.plane.unit_normal,
         Shape::TexPlane(textured) => textured.rect.plane.unit_normal,
-        Shape::Sphere(_) => Vec3::ZERO,
+        Shape::Sphere(_) | Shape::RevSurf(_) => Vec3::ZERO,
     }
 }
 

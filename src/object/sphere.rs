@@ -76,13 +76,7 @@ impl<S: Scalar> Sphere<S> {
             return ahead(c / q, limit);
         }
         // One wide reciprocal for the direction and for `t`.
-        let len = ray.length();
-        let inv = S::wide_recip(len.to_wide()?);
-        let unit = Vec3::new(
-            ray.dir.x.scale(inv),
-            ray.dir.y.scale(inv),
-            ray.dir.z.scale(inv),
-        );
+        let (unit, inv) = super::unit_direction(ray)?;
         // The limit applies to the converted `t`: ties must not depend on a rounded limit.
         let t = self.nearest_unit(ray.base, unit, S::UNBOUNDED)?;
         ahead(t.scale(inv), limit)

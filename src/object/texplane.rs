@@ -36,12 +36,19 @@ pub struct TexPlane<S> {
 
 impl<S: Scalar> TexPlane<S> {
     /// The texel under a hit as a colour factor (value / 256); white without a texture.
+    #[inline]
     pub fn texel(&self, palette: &Palette<'_, S>, hit: &Hit<S>) -> Vec3<S> {
+        self.texel_at(palette, hit.point)
+    }
+
+    /// The texel at a point of the rectangle's plane as a colour factor (value / 256);
+    /// white without a texture.
+    pub fn texel_at(&self, palette: &Palette<'_, S>, point: Vec3<S>) -> Vec3<S> {
         let Some(texture) = palette.textures.get(usize::from(self.texture)) else {
             return Vec3::new(S::ONE, S::ONE, S::ONE);
         };
         let (width, height) = (i32::from(texture.width()), i32::from(texture.height()));
-        let [qx, qy] = self.rect.local(hit.point);
+        let [qx, qy] = self.rect.local(point);
         // `q / size * texels` as the course writes it (f64); the other types multiply by
         // the ratio `texels / size` instead, whose rounding the texel count does not
         // multiply (in Q16.16, dividing first puts the texel edge 256 steps off).

@@ -3,13 +3,13 @@
 use super::{Values, values_of};
 use crate::camera::CameraDef;
 use crate::decimal::{NumberError, parse_number};
-use crate::error::{
-    Attr, Entity, Error, ErrorKind, Feature, Position, Range, Snippet, TextureError,
-};
+use crate::error::{Attr, Entity, Error, ErrorKind, Position, Range, Snippet, TextureError};
 use crate::light::LightDef;
 use crate::material::MaterialDef;
 use crate::name::{NAME_CAPACITY, PATH_CAPACITY};
-use crate::object::{ObjectDef, PlaneDef, RectDef, ShapeDef, SphereDef, TextureMode};
+use crate::object::{
+    ObjectDef, PlaneDef, RectDef, RevSurfDef, ShapeDef, SphereDef, Surfer, TextureMode,
+};
 use crate::range::Extent;
 use crate::scalar::Scalar;
 use crate::scene::{Item, Scene};
@@ -197,7 +197,12 @@ impl<'i> Block<'i> {
 const fn is_object(entity: Entity) -> bool {
     matches!(
         entity,
-        Entity::Plane | Entity::Sphere | Entity::FPlane | Entity::TiledPlane | Entity::TexPlane
+        Entity::Plane
+            | Entity::Sphere
+            | Entity::FPlane
+            | Entity::TiledPlane
+            | Entity::TexPlane
+            | Entity::RevSurf
     )
 }
 
@@ -270,26 +275,15 @@ pub(super) fn parse_into<
             scene.set_camera(&def)
         }
         Item::Material(def) => scene.add_material(&def),
-        Item::Light(def) => scene.add_light(&def),
+        Item::Light(def) => {
+            if let Some(slide) = &def.slide {
+                scene.add_texture_named(slide.texname, &mut textures)?;
+            }
+            scene.add_light(&def)
+        }
         Item::Object(def) => {
-            // The later course scenes name an image file directly (`texname FILE`): a
-            // `texname` that names no texture block is read as a file, once, as if a
-            // `texture FILE { filename FILE }` block came first.
-            if let ShapeDef::TexPlane(_, texname, _) = def.shape
-                && Feature::Texture.enabled()
-                && scene.find_texture(texname).is_none()
-            {
-                scene
-                    .add_texture_file(texname, texname, &mut textures)
-                    .map_err(|e| match e {
-                        ErrorKind::Texture {
-                            error: TextureError::NotFound,
-                            ..
-                        } => ErrorKind::UndefinedTexture {
-                            name: Snippet::new(texname.as_bytes()),
-                        },
-                        e => e,
-                    })?;
+            if let ShapeDef::TexPlane(_, texname, _) = def.shape {
+                scene.add_texture_named(texname, &mut textures)?;
             }
             scene.add_object(&def)
         }
@@ -504,6 +498,18 @@ fn rect(block: &Block<'_>) -> Result<RectDef, ErrorKind> {
     })
 }
 
+/// A texture's `mode`: 0 or 1.
+fn mode(block: &Block<'_>) -> Result<TextureMode, ErrorKind> {
+    match block.numbers::<1>(Attr::Mode)?[0] {
+        0.0 => Ok(TextureMode::Fit),
+        1.0 => Ok(TextureMode::Tile),
+        _ => Err(ErrorKind::OutOfRange {
+            attr: Attr::Mode,
+            range: Range::ZeroOrOne,
+        }),
+    }
+}
+
 fn to_item<'i>(block: &Block<'i>) -> Result<Item<'i>, ErrorKind> {
     let name = block.name;
     let shape = match block.entity {
@@ -546,6 +552,16 @@ fn to_item<'i>(block: &Block<'i>) -> Result<Item<'i>, ErrorKind> {
                 block.numbers::<1>(Attr::Theta)?[0],
             )));
         }
+        Entity::Projector => {
+            return Ok(Item::Light(LightDef::projector(
+                name,
+                block.numbers(Attr::Location)?,
+                block.numbers(Attr::Emissivity)?,
+                rect(block)?,
+                block.word(Attr::Texname)?,
+                mode(block)?,
+            )));
+        }
         Entity::Texture => {
             return Ok(Item::Texture {
                 name,
@@ -563,17 +579,26 @@ fn to_item<'i>(block: &Block<'i>) -> Result<Item<'i>, ErrorKind> {
         Entity::FPlane => ShapeDef::FPlane(rect(block)?),
         Entity::TiledPlane => ShapeDef::TiledPlane(rect(block)?, block.word(Attr::Altmaterial)?),
         Entity::TexPlane => {
-            let mode = match block.numbers::<1>(Attr::Mode)?[0] {
-                0.0 => TextureMode::Fit,
-                1.0 => TextureMode::Tile,
+            ShapeDef::TexPlane(rect(block)?, block.word(Attr::Texname)?, mode(block)?)
+        }
+        Entity::RevSurf => {
+            let surfer = match block.numbers::<1>(Attr::Surfer)?[0] {
+                1.0 => Surfer::Cone,
+                2.0 => Surfer::Waist,
+                3.0 => Surfer::Vase,
                 _ => {
                     return Err(ErrorKind::OutOfRange {
-                        attr: Attr::Mode,
-                        range: Range::ZeroOrOne,
+                        attr: Attr::Surfer,
+                        range: Range::Surfer,
                     });
                 }
             };
-            ShapeDef::TexPlane(rect(block)?, block.word(Attr::Texname)?, mode)
+            ShapeDef::RevSurf(RevSurfDef {
+                surfer,
+                base: block.numbers(Attr::Base)?,
+                direction: block.numbers(Attr::Direction)?,
+                height: block.numbers::<1>(Attr::Height)?[0],
+            })
         }
     };
     let material = block.word(Attr::Material)?;

@@ -109,13 +109,12 @@ pub(crate) const fn values_of(attr: Attr) -> Values {
     use Attr::*;
     match attr {
         Pixeldim => Values::Integers(2),
-        Mode => Values::Integers(1),
+        Mode | Surfer => Values::Integers(1),
         Worlddim | Dimensions => Values::Numbers(2),
         Specular => Values::Channels,
-        Shininess | Transparency | Theta | Radius => Values::Numbers(1),
-        Viewpoint | Ambient | Diffuse | Location | Emissivity | Point | Normal | Center | Xdir => {
-            Values::Numbers(3)
-        }
+        Shininess | Transparency | Theta | Radius | Height => Values::Numbers(1),
+        Viewpoint | Ambient | Diffuse | Location | Emissivity | Point | Normal | Center | Xdir
+        | Base | Direction => Values::Numbers(3),
         Material | Altmaterial | Filename | Texname => Values::Word,
     }
 }

@@ -324,6 +324,19 @@ impl Scalar for I16F16 {
     // 256 steps of 2^-16.
     const MIN_FEATURE: f64 = 1.0 / 256.0;
     const UNIT_STEP: f64 = 1.0 / 65536.0;
+    // Rounded to the nearest step.
+    const SINE: [Self; 10] = [
+        Self::from_bits(32768),
+        Self::from_bits(10430),
+        Self::from_bits(411775),
+        Self::from_bits(205887),
+        Self::from_bits(102944),
+        Self::from_bits(10923),
+        Self::from_bits(3277),
+        Self::from_bits(1560),
+        Self::from_bits(910),
+        Self::from_bits(596),
+    ];
     const WIDE_RANGE: bool = false;
     const COURSE_ORDER: bool = false;
     const PIXEL_STEPS: PixelSteps = PixelSteps::Exact;

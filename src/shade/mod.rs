@@ -22,7 +22,7 @@ use crate::bvh::Tree;
 use crate::light::Light;
 use crate::material::Material;
 use crate::object::{
-    Among, Hit, Object, Palette, RowEntry, Surface, any_hit_among, any_hit_remembering,
+    Among, Hit, Object, Palette, RowEntry, Surface, TexPlane, any_hit_among, any_hit_remembering,
     closest_hit_among, closest_hit_in_row,
 };
 use crate::plan::Stages;
@@ -357,7 +357,11 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 return Vec3::ZERO;
             }
         }
-        let mut lit = diffuse.mul_each(light.diffuse_emissivity);
+        let (emissivity, glint_emissivity) = match self.emission(light, -l, distance) {
+            Some(emission) => emission,
+            None => return Vec3::ZERO,
+        };
+        let mut lit = diffuse.mul_each(emissivity);
         if cfg!(feature = "transparency") && self.stages.shadows && self.stages.filtered_shadows {
             let Some(filter) = self.shadow_filter(hit.point, l, distance, index) else {
                 return Vec3::ZERO;
@@ -376,7 +380,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         if cfg!(feature = "glint") && self.stages.glints && shininess != S::ZERO {
             let halfway = (eye - hit.point).unit().and_then(|v| (v + l).unit());
             if let Some(h) = halfway {
-                let glint = light.emissivity.mul_each(specular);
+                let glint = glint_emissivity.mul_each(specular);
                 c = c + glint * h.dot(hit.normal).pow_positive(shininess);
             }
         }
@@ -437,7 +441,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
         if cfg!(feature = "spotlight") && light.spot.is_some() && !in_cone(light, to_light) {
             return None;
         }
-        let mut lit = surface.diffuse.mul_each(light.diffuse_emissivity);
+        let (emissivity, glint_emissivity) = self.emission(light, -to_light, S::ONE)?;
+        let mut lit = surface.diffuse.mul_each(emissivity);
         if cfg!(feature = "transparency") && self.stages.shadows && self.stages.filtered_shadows {
             lit = lit.mul_each(self.shadow_filter(hit.point, to_light, S::ONE, index)?);
         } else if self.stages.shadows && self.blocked(hit.point, to_light, index, light) {
@@ -446,9 +451,43 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let per_total = add_diffuse(lit, cos_d, d_squared, total, c);
         let material = surface.material;
         if cfg!(feature = "glint") && self.stages.glints && material.shininess != S::ZERO {
-            *c = *c + glint(light, material, hit.normal, ray.dir, to_light, per_total);
+            let emitted = glint_emissivity;
+            *c = *c + glint(emitted, material, hit.normal, ray.dir, to_light, per_total);
         }
         Some(per_total)
+    }
+
+    /// What `light` sends along `towards` (from the light to a hit `reach` of it away): its
+    /// diffuse and glint emissivity, a projector's times the texel of its slide that the
+    /// way crosses; `None` when a projector's way misses the slide (or the slide lies
+    /// beyond the hit: a projector lights only what is behind its slide).
+    #[inline(always)]
+    fn emission(&self, light: &Light<S>, towards: Vec3<S>, reach: S) -> Option<(Vec3<S>, Vec3<S>)> {
+        match light.slide.as_ref().filter(|_| cfg!(feature = "projector")) {
+            None => Some((light.diffuse_emissivity, light.emissivity)),
+            Some(slide) => {
+                let texel = self.slide_texel(light, slide, towards, reach)?;
+                Some((
+                    light.diffuse_emissivity.mul_each(texel),
+                    light.emissivity.mul_each(texel),
+                ))
+            }
+        }
+    }
+
+    /// The texel of a projector's slide where the way from the light along `towards`
+    /// crosses it before `reach`, if it does.
+    #[inline(never)]
+    fn slide_texel(
+        &self,
+        light: &Light<S>,
+        slide: &TexPlane<S>,
+        towards: Vec3<S>,
+        reach: S,
+    ) -> Option<Vec3<S>> {
+        let way = Ray::new(light.location, towards);
+        let t = slide.rect.nearest(&way, reach)?;
+        Some(slide.texel_at(&self.palette, way.at(t)))
     }
 
     /// Whether an object (but the one at `index`) is in the way from `from` to `from + l`,
@@ -537,7 +576,7 @@ fn in_cone<S: Scalar>(light: &Light<S>, to_light: Vec3<S>) -> bool {
 /// number until the end (Q16.16's absolute step times a bright light is visible).
 #[inline(never)]
 fn glint<S: Scalar>(
-    light: &Light<S>,
+    emissivity: Vec3<S>,
     material: &Material<S>,
     normal: Vec3<S>,
     dir: Vec3<S>,
@@ -550,7 +589,7 @@ fn glint<S: Scalar>(
     let power = halfway.and_then(|h| h.dot(normal).pow_wide(material.shininess));
     match power {
         Some(power) => scaled(
-            light.emissivity.mul_each(material.specular),
+            emissivity.mul_each(material.specular),
             S::wide_mul(power, k),
         ),
         None => Vec3::ZERO,

@@ -124,6 +124,10 @@ impl<'s, S: Scalar> Shader<'s, S> {
         if S::COURSE_ORDER || self.tree().is_some() || self.lights.len() > ROW_LIGHTS {
             return None;
         }
+        // A projector's light changes with its slide's texel from pixel to pixel.
+        if cfg!(feature = "projector") && self.lights.iter().any(|l| l.slide.is_some()) {
+            return None;
+        }
         let shadows = self.stages.illumination && self.stages.shadows;
         if shadows && self.stages.filtered_shadows {
             return None;
@@ -374,7 +378,14 @@ impl<'s, S: Scalar> Shader<'s, S> {
             }
             let per = add_diffuse(lit.lit, lit.cos_d, d_squared, total, &mut c);
             if cfg!(feature = "glint") && level.glints {
-                c = c + glint(light, material, hit.normal, ray.dir, to_light, per);
+                c = c + glint(
+                    light.emissivity,
+                    material,
+                    hit.normal,
+                    ray.dir,
+                    to_light,
+                    per,
+                );
             }
             per_total.get_or_insert(per);
         }

@@ -874,7 +874,7 @@ impl fmt::Display for ErrorKind {
             ErrorKind::UndefinedTexture { name } => {
                 write!(
                     f,
-                    "undefined texture {name} (textures must be defined before the planes that use them)"
+                    "undefined texture {name} (textures must be defined before the planes and projectors that use them)"
                 )
             }
             ErrorKind::DuplicateName { entity, name } => {

@@ -18,7 +18,7 @@ fn load(body: &str) -> Result<Scene<'static, f32, 4, 4, 2, 1, 8>, Error> {
 }
 
 /// Each optional part, a scene using it, and where the error is (line, column).
-const NEEDS: [(Feature, &str, (u32, u32)); 8] = [
+const NEEDS: [(Feature, &str, (u32, u32)); 10] = [
     (
         Feature::FPlane,
         "fplane f { material m normal 0 0 1 point 0 0 -5 xdir 1 0 0 dimensions 2 2 }",
@@ -53,6 +53,16 @@ const NEEDS: [(Feature, &str, (u32, u32)); 8] = [
     (
         Feature::Texture,
         "texture p { filename p.ppm }\ntexplane w { material m normal 0 0 1 point 0 0 -5 xdir 1 0 0 dimensions 2 2 texname p mode 0 }",
+        (3, 1),
+    ),
+    (
+        Feature::Projector,
+        "projector p { emissivity 1 1 1 location 4 3 2 normal 0 0 1 point 2 1 0 xdir 1 0 0 dimensions 4 3 texname p.ppm mode 0 }",
+        (3, 1),
+    ),
+    (
+        Feature::RevSurf,
+        "revsurf v { material m surfer 1 base 4 0 -4 direction 0 1 0 height 6 }",
         (3, 1),
     ),
 ];

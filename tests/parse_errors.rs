@@ -139,7 +139,7 @@ fn undefined_texture() {
         ),
         3,
         85,
-        "undefined texture `card` (textures must be defined before the planes that use them)",
+        "undefined texture `card` (textures must be defined before the planes and projectors that use them)",
     );
 }
 
@@ -663,7 +663,7 @@ fn texname_that_is_neither_a_texture_nor_a_file() {
         &text,
         3,
         column,
-        "undefined texture `nothing` (textures must be defined before the planes that use them)",
+        "undefined texture `nothing` (textures must be defined before the planes and projectors that use them)",
     );
     // A file that is there but not an image: the texture error, at the same place.
     let text = format!("{CAM}{MAT}{}", texplane("p3.ppm"));
@@ -676,4 +676,88 @@ fn texname_that_is_neither_a_texture_nor_a_file() {
         "{}",
         e.kind
     );
+}
+
+/// A `revsurf` block with `attributes` after its material.
+fn revsurf(attributes: &str) -> String {
+    format!("{CAM}{MAT}revsurf v {{ material m {attributes} }}")
+}
+
+#[test]
+fn revsurf_errors() {
+    // Line 3, at the attribute (the column counts `revsurf v { material m `: 25).
+    assert_error(
+        &revsurf("surfer 4 base 0 0 -4 direction 0 1 0 height 6"),
+        3,
+        24,
+        "`surfer` must be 1, 2 or 3",
+    );
+    assert_error(
+        &revsurf("surfer 1.5 base 0 0 -4 direction 0 1 0 height 6"),
+        3,
+        31,
+        "`surfer` takes whole numbers, found `1.5`",
+    );
+    assert_error(
+        &revsurf("surfer 2 base 0 0 -4 direction 0 0 0 height 6"),
+        3,
+        45,
+        "`direction` must not be the zero vector",
+    );
+    assert_error(
+        &revsurf("surfer 2 base 0 0 -4 direction 0 1 0 height 0"),
+        3,
+        61,
+        "`height` must be greater than 0",
+    );
+    assert_error(
+        &revsurf("surfer 2 base 0 0 -4 direction 0 1 0 height -2"),
+        3,
+        61,
+        "`height` must be greater than 0",
+    );
+    assert_error(
+        &revsurf("surfer 3 direction 0 1 0 height 6"),
+        3,
+        1,
+        "revsurf is missing `base`",
+    );
+}
+
+/// A `projector` block with `attributes` after its light's.
+fn projector(attributes: &str) -> String {
+    format!(
+        "{CAM}texture t {{ filename ok.ppm }}\nprojector p {{ emissivity 1 1 1 location 4 3 2 \
+         normal 0 0 1 point 2 1 0 xdir 1 0 0 dimensions 4 3 {attributes} }}"
+    )
+}
+
+#[test]
+fn projector_errors() {
+    // Without a texture, with a texture that is neither a block nor a file, with a bad
+    // mode, with its slide's x axis along its normal.
+    assert_error(&projector("mode 0"), 3, 1, "projector is missing `texname`");
+    assert_error(
+        &projector("texname nowhere.ppm mode 0"),
+        3,
+        106,
+        "undefined texture `nowhere.ppm` (textures must be defined before the planes and projectors that use them)",
+    );
+    assert_error(
+        &projector("texname t mode 3"),
+        3,
+        108,
+        "`mode` must be 0 or 1",
+    );
+    assert_error(
+        &projector("texname t mode 0").replace("xdir 1 0 0", "xdir 0 0 2"),
+        3,
+        72,
+        "`xdir` is parallel to the normal, so it gives no direction in the plane",
+    );
+    // A file named directly is read, as for a texplane.
+    let text = projector("texname ok.ppm mode 1");
+    let scene = parse_scene::<f64, 32, 16, 8, 16, 1024>(text.as_bytes(), textures).unwrap();
+    assert_eq!(scene.textures()[1].name(), "ok.ppm");
+    assert!(scene.lights()[0].slide.is_some());
 }

@@ -61,6 +61,20 @@ fn conformance_scenes_parse_and_round_trip() {
 }
 
 #[test]
+fn later_course_scenes_parse_and_round_trip() {
+    // Projectors, surfaces of revolution, `specular r g b`, `texname FILE`.
+    let Some(dir) = common::course_extensions_dir() else {
+        return;
+    };
+    let files = common::scene_files(&dir);
+    assert_eq!(files.len(), 5, "expected the course's 5 later scenes");
+    for path in &files {
+        round_trip::<f64>(path);
+        round_trip::<f32>(path);
+    }
+}
+
+#[test]
 fn project_scenes_parse_and_round_trip() {
     let files = common::project_scenes();
     assert!(!files.is_empty());

@@ -92,7 +92,7 @@ type Bound = Option<(f64, f64)>;
 
 /// The bounds, per scene, for f32 and for I16F16 (measured values in the README; the bounds
 /// leave a margin below them).
-const BOUNDS: [(&str, Bound, Bound); 9] = [
+const BOUNDS: [(&str, Bound, Bound); 12] = [
     ("far_1", Some((99.9, 0.05)), Some((99.0, 0.2))),
     ("far_100", Some((99.9, 0.05)), Some((99.0, 0.2))),
     ("far_1000", Some((99.9, 0.05)), None),
@@ -102,6 +102,9 @@ const BOUNDS: [(&str, Bound, Bound); 9] = [
     ("parallel_planes", Some((99.0, 0.5)), Some((97.0, 3.0))),
     ("close_light", Some((99.9, 0.01)), Some((99.0, 0.2))),
     ("mirror_pair", Some((99.0, 0.1)), Some((95.0, 1.0))),
+    ("revsurf_on_axis", Some((99.9, 0.05)), Some((99.9, 0.05))),
+    ("projector_grazing", Some((99.9, 0.0)), Some((99.9, 0.0))),
+    ("projector_behind", Some((99.8, 0.0)), Some((99.9, 0.0))),
 ];
 
 fn check<S: Scalar>(

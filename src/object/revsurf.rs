@@ -46,7 +46,7 @@
 //!    `|d(rho^2)/dt| = 2 |A t + B|` at the ends and the profile's largest `|r r'|`), so a
 //!    piece whose ends satisfy `|G(a)| + |G(b)| > L (b - a)` has no root. Rays far from the
 //!    surface are dismissed in a few evaluations; a ray grazing a silhouette is followed
-//!    down to [`DEPTH`] halvings (1/4096 of the interval): nothing is missed that the ray
+//!    down to [`DEPTH`] halvings (1/65536 of the interval): nothing is missed that the ray
 //!    passes through for more than that.
 //! 3. Refinement: the Illinois variant of regula falsi on the bracket, until it stops
 //!    shrinking; the hit is the end on the ray's side (no acne: the point is never inside).
@@ -68,10 +68,10 @@ use crate::vec3::Vec3;
 use core::fmt;
 
 /// Halvings of the interval at most while bracketing (the depth of the search's stack).
-pub const DEPTH: usize = 12;
+pub const DEPTH: usize = 16;
 
 /// Evaluations of `G` a ray at most: bracketing and refinement together.
-pub const MAX_EVALUATIONS: u32 = 64;
+pub const MAX_EVALUATIONS: u32 = 96;
 
 /// A profile: the radius as a function of the height along the axis (`surfer` in the
 /// scene; see the module's docs for how they were recovered).
@@ -416,7 +416,18 @@ impl<S: Scalar> Search<'_, S> {
                 return Some(self.refine(a, ga, b, gb));
             }
             let settled = ga.abs() + gb.abs() > self.slope_bound(a, b) * (b - a);
-            let m = a + (b - a) * S::SINE[0];
+            // The first split is at the ray's closest approach to the axis, if it is inside:
+            // where a ray grazing a silhouette touches the surface; then halves.
+            let closest = if depth == 0 && self.line.a > S::ZERO {
+                -self.line.b / self.line.a
+            } else {
+                a
+            };
+            let m = if closest > a && closest < b {
+                closest
+            } else {
+                a + (b - a) * S::SINE[0]
+            };
             if settled || depth == DEPTH || !(b - a > narrowest) || !(m > a && m < b) {
                 // No root in [a, b]: on to the right half left behind.
                 if depth == 0 {
@@ -528,4 +539,120 @@ pub fn revsurf_print<S: Scalar>(
         print::numbers(out, Attr::Height, &[surface.height], palette.scale)?;
     }
     print::footer(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scalar::I16F16;
+
+    fn surface<S: Scalar>(surfer: Surfer) -> RevSurf<S> {
+        let def = RevSurfDef {
+            surfer,
+            base: [1.0, -2.0, -5.0],
+            direction: [0.3, 1.0, 0.2],
+            height: 6.0,
+        };
+        RevSurf::build(&def, 1.0).unwrap()
+    }
+
+    /// A deterministic stream of numbers in [0, 1).
+    fn stream(mut seed: u64) -> impl FnMut() -> f64 {
+        move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    #[test]
+    fn sine_in_f32_and_fixed_point() {
+        let mut worst = (0.0f64, 0.0f64);
+        for i in -4000..=4000 {
+            let x = f64::from(i) / 200.0;
+            let exact = libm::sin(x);
+            worst.0 = worst.0.max((f64::from((x as f32).sin()) - exact).abs());
+            worst.1 = worst
+                .1
+                .max((I16F16::from_f64(x).sin().to_f64() - exact).abs());
+        }
+        assert!(worst.0 < 1e-6, "f32 {}", worst.0);
+        assert!(worst.1 < 1e-4, "I16F16 {}", worst.1);
+    }
+
+    /// Rays from outside a point `p` of the surface towards it, from straight on down to
+    /// within 1e-5 of the tangent plane: each meets the surface no later than `p`, on it.
+    #[test]
+    fn rays_towards_the_surface_meet_it_up_to_grazing() {
+        for surfer in [Surfer::Cone, Surfer::Waist, Surfer::Vase] {
+            let s = surface::<f64>(surfer);
+            let mut next = stream(7 + surfer as u64);
+            let mut worst = 0.0f64;
+            for _ in 0..20_000 {
+                let h = 0.01 + next() * 5.8;
+                let angle = next() * core::f64::consts::TAU;
+                let (r, _) = s.profile(h);
+                let a = s.axis.to_f64();
+                let u = a.cross(Vec3::new(1.0, 0.0, 0.0)).unit_f64().unwrap();
+                let v = a.cross(u);
+                let radial = u * libm::cos(angle) + v * libm::sin(angle);
+                let p = s.base + a * h + radial * r;
+                // The surface's own normal (the cone's shading normal leans further).
+                let slope = (s.profile(h + 1e-6).0 - s.profile(h - 1e-6).0) / 2e-6;
+                let n = (radial - a * slope).unit_f64().unwrap();
+                // A tangent direction, and a lean towards the normal from 1 down to 1e-4.
+                let tangent = n.cross(a).unit_f64().unwrap_or(u);
+                let lean = libm::pow(10.0, -5.0 * next());
+                let from = p + (n * lean + tangent * (next() - 0.5)) * (1.0 + 4.0 * next());
+                let dir = (p - from).unit_f64().unwrap();
+                let reach = (p - from).length();
+                let ray = Ray::with_length(from, dir, 1.0);
+                let t = s
+                    .nearest(&ray, f64::INFINITY)
+                    .unwrap_or_else(|| panic!("{surfer:?}: missed {p:?} from {from:?}"));
+                assert!(t <= reach * (1.0 + 1e-9), "{surfer:?}: {t} beyond {reach}");
+                let q = ray.at(t) - s.base;
+                let hq = q.dot(a);
+                let off = ((q - a * hq).length() - s.profile(hq).0).abs();
+                worst = worst.max(off);
+            }
+            assert!(worst < 1e-9, "{surfer:?}: a hit {worst} off the surface");
+        }
+    }
+
+    #[test]
+    fn rays_along_the_axis_pass_through_the_open_ends() {
+        let s = surface::<f32>(Surfer::Waist);
+        let down = -s.axis;
+        let above = s.base + s.axis * 10.0;
+        assert_eq!(s.nearest(&Ray::new(above, down), f32::INFINITY), None);
+        // Off the axis by more than the waist: the ray meets the inside of the top.
+        let off = above + s.axis.cross(Vec3::new(1.0, 0.0, 0.0)).unit().unwrap() * 1.2;
+        let t = s.nearest(&Ray::new(off, down), f32::INFINITY).unwrap();
+        let h = (off + down * t - s.base).dot(s.axis);
+        assert!(h > 4.0 && h < 6.0, "{h}");
+    }
+
+    #[test]
+    fn zero_direction_and_bad_height_are_errors() {
+        let mut def = RevSurfDef {
+            surfer: Surfer::Vase,
+            base: [0.0; 3],
+            direction: [0.0; 3],
+            height: 1.0,
+        };
+        assert_eq!(
+            RevSurf::<f32>::build(&def, 1.0),
+            Err(ErrorKind::ZeroVector {
+                attr: Attr::Direction
+            })
+        );
+        def.direction = [0.0, 1.0, 0.0];
+        def.height = 0.0;
+        assert_eq!(
+            RevSurf::<f32>::build(&def, 1.0),
+            Err(ErrorKind::NotPositive { attr: Attr::Height })
+        );
+    }
 }

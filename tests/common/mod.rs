@@ -24,6 +24,17 @@ pub fn conformance_dir() -> Option<PathBuf> {
     Some(dir)
 }
 
+/// The course's later scenes: `MICRORAY_COURSE_EXTENSIONS`, else `course-extensions` next to
+/// the conformance folder, if it is there.
+pub fn course_extensions_dir() -> Option<PathBuf> {
+    if let Some(dir) = std::env::var_os("MICRORAY_COURSE_EXTENSIONS") {
+        return Some(dir.into());
+    }
+    let conformance = conformance_dir()?;
+    let dir = conformance.parent()?.join("course-extensions");
+    dir.is_dir().then_some(dir)
+}
+
 /// Every `*.txt` under `dir`, sorted.
 pub fn scene_files(dir: &Path) -> Vec<PathBuf> {
     let mut found = Vec::new();

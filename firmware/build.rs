@@ -206,7 +206,7 @@ impl Capacity {
         Self {
             objects: object_count(text),
             materials: block_count(text, &["material"]),
-            lights: block_count(text, &["light", "spotlight"]),
+            lights: block_count(text, &["light", "spotlight", "projector"]),
             textures: block_count(text, &["texture"]),
         }
     }
@@ -238,7 +238,14 @@ fn block_count(text: &str, keywords: &[&str]) -> usize {
 fn object_count(text: &str) -> usize {
     block_count(
         text,
-        &["plane", "sphere", "fplane", "tiled_plane", "texplane"],
+        &[
+            "plane",
+            "sphere",
+            "fplane",
+            "tiled_plane",
+            "texplane",
+            "revsurf",
+        ],
     )
 }
 

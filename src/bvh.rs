@@ -70,14 +70,14 @@ fn bounds<S: Scalar>(object: &Object<S>) -> Option<(Vec3<f64>, Vec3<f64>)> {
             let reach = Vec3::new(r, r, r);
             return Some((c - reach, c + reach));
         }
-        Shape::RevSurf(s) => {
+        Shape::RevSurf(s) if cfg!(feature = "revsurf") => {
             let (c, r) = (s.center.to_f64(), s.bound.to_f64());
             let reach = Vec3::new(r, r, r);
             return Some((c - reach, c + reach));
         }
         Shape::FPlane(rect) => rect,
         Shape::TexPlane(textured) => &textured.rect,
-        Shape::Plane(_) | Shape::TiledPlane(_) => return None,
+        Shape::Plane(_) | Shape::TiledPlane(_) | Shape::RevSurf(_) => return None,
     };
     let p = rect.plane.point.to_f64();
     let across = rect.u.to_f64() * rect.dimensions[0].to_f64();

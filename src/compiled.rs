@@ -315,7 +315,7 @@ pub(crate) fn write_light<S: Scalar>(out: &mut Writer<'_>, light: &Light<S>) {
             out.number(spot.cos_theta);
         }
     }
-    match &light.slide {
+    match light.slide() {
         None => out.byte(0),
         Some(slide) => {
             out.byte(1);
@@ -362,18 +362,25 @@ pub(crate) fn read_light<S: Scalar>(
     } else {
         None
     };
-    let slide = if input.flag()? {
+    let projector = input.flag()?;
+    if projector {
         Feature::Projector.require(None)?;
+    }
+    #[cfg(feature = "projector")]
+    let slide = if projector {
         Some(read_slide(input, textures)?)
     } else {
         None
     };
+    #[cfg(not(feature = "projector"))]
+    let _ = textures;
     Ok(Light {
         name,
         location,
         emissivity,
         diffuse_emissivity,
         spot,
+        #[cfg(feature = "projector")]
         slide,
     })
 }

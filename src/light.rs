@@ -1,8 +1,8 @@
 //! Lights: point lights, spotlights and projectors.
 
-use crate::error::{Attr, ErrorKind, Feature, Range, Snippet};
+use crate::error::{Attr, ErrorKind, Feature, Range};
 use crate::name::{Name, bounded};
-use crate::object::{Rect, RectDef, TexPlane, TextureMode};
+use crate::object::{RectDef, TexPlane, TextureMode};
 #[cfg(feature = "print")]
 use crate::print;
 use crate::scalar::{Scalar, load, load_position};
@@ -136,7 +136,9 @@ pub struct Light<S> {
     /// The cone, for a spotlight.
     pub spot: Option<Spot<S>>,
     /// The slide, for a projector: a textured rectangle the light shines through (a
-    /// `texplane` that is not an object).
+    /// `texplane` that is not an object). Only with the `projector` feature: a build
+    /// without it keeps its lights small.
+    #[cfg(feature = "projector")]
     pub slide: Option<TexPlane<S>>,
 }
 
@@ -176,16 +178,25 @@ impl<S: Scalar> Light<S> {
                 })
             }
         };
+        #[cfg(not(feature = "projector"))]
+        let _ = find_texture;
+        #[cfg(not(feature = "projector"))]
+        if def.slide.is_some() {
+            return Err(ErrorKind::NotCompiledIn {
+                feature: Feature::Projector,
+                attr: None,
+            });
+        }
+        #[cfg(feature = "projector")]
         let slide = match &def.slide {
             None => None,
             Some(slide) => {
-                Feature::Projector.require(None)?;
                 let texture =
                     find_texture(slide.texname).ok_or_else(|| ErrorKind::UndefinedTexture {
-                        name: Snippet::new(slide.texname.as_bytes()),
+                        name: crate::error::Snippet::new(slide.texname.as_bytes()),
                     })?;
                 Some(TexPlane {
-                    rect: Rect::build(&slide.rect, scale)?,
+                    rect: crate::object::Rect::build(&slide.rect, scale)?,
                     texture,
                     mode: slide.mode,
                 })
@@ -197,8 +208,18 @@ impl<S: Scalar> Light<S> {
             emissivity,
             diffuse_emissivity,
             spot,
+            #[cfg(feature = "projector")]
             slide,
         })
+    }
+
+    /// The projector's slide, if the light is a projector.
+    #[inline(always)]
+    pub fn slide(&self) -> Option<&TexPlane<S>> {
+        #[cfg(feature = "projector")]
+        return self.slide.as_ref();
+        #[cfg(not(feature = "projector"))]
+        None
     }
 
     /// The light's name.
@@ -215,7 +236,7 @@ impl<S: Scalar> Light<S> {
         scale: f64,
         textures: &[crate::texture::Texture<'_>],
     ) -> fmt::Result {
-        let keyword = if self.slide.is_some() {
+        let keyword = if self.slide().is_some() {
             "projector"
         } else if self.spot.is_some() {
             "spotlight"
@@ -229,7 +250,7 @@ impl<S: Scalar> Light<S> {
             print::vector(out, Attr::Point, spot.point, scale)?;
             print::numbers(out, Attr::Theta, &[spot.theta], 1.0)?;
         }
-        if let Some(slide) = &self.slide {
+        if let Some(slide) = self.slide() {
             slide.rect.print_attributes(out, scale)?;
             let name = textures
                 .get(usize::from(slide.texture))

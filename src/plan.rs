@@ -226,10 +226,12 @@ fn wholly_in_front<S: Scalar>(object: &Object<S>, z_limit: f64, resolution: f64)
             let r = s.radius.to_f64();
             clear_of(s.center.z.to_f64() - r, r)
         }
-        Shape::RevSurf(s) => {
+        // `cfg!`: without the feature there are none, and the sphere test keeps one caller.
+        Shape::RevSurf(s) if cfg!(feature = "revsurf") => {
             let r = s.bound.to_f64();
             clear_of(s.center.z.to_f64() - r, r)
         }
+        Shape::RevSurf(_) => false,
         Shape::FPlane(rect) => corners(rect).iter().all(|c| clear_of(c.z, 0.0)),
         Shape::TexPlane(t) => corners(&t.rect).iter().all(|c| clear_of(c.z, 0.0)),
         Shape::Plane(p) => plane_in_front(p, clear_of),
@@ -343,7 +345,10 @@ impl View {
     fn rows_of<S: Scalar>(&self, object: &Object<S>, resolution: f64) -> RowSpan {
         let heights = match object.shape() {
             Shape::Sphere(s) => self.sphere(s.center.to_f64(), s.radius.to_f64(), resolution),
-            Shape::RevSurf(s) => self.sphere(s.center.to_f64(), s.bound.to_f64(), resolution),
+            Shape::RevSurf(s) if cfg!(feature = "revsurf") => {
+                self.sphere(s.center.to_f64(), s.bound.to_f64(), resolution)
+            }
+            Shape::RevSurf(_) => Heights::ALL,
             Shape::FPlane(rect) => self.outline(&corners(rect), resolution),
             Shape::TexPlane(t) => self.outline(&corners(&t.rect), resolution),
             Shape::Plane(p) => self.plane(p),

@@ -65,7 +65,7 @@ impl<S: Scalar> Vec3<S> {
 
     /// The vector divided by its length, or `None` for the zero vector (where the course
     /// produced NaN).
-    #[inline]
+    #[inline(always)]
     pub fn unit(self) -> Option<Self> {
         let length = self.length();
         if length > S::ZERO {

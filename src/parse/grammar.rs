@@ -3,7 +3,9 @@
 use super::{Values, values_of};
 use crate::camera::CameraDef;
 use crate::decimal::{NumberError, parse_number};
-use crate::error::{Attr, Entity, Error, ErrorKind, Position, Range, Snippet, TextureError};
+use crate::error::{
+    Attr, Entity, Error, ErrorKind, Feature, Position, Range, Snippet, TextureError,
+};
 use crate::light::LightDef;
 use crate::material::MaterialDef;
 use crate::name::{NAME_CAPACITY, PATH_CAPACITY};
@@ -276,7 +278,9 @@ pub(super) fn parse_into<
         }
         Item::Material(def) => scene.add_material(&def),
         Item::Light(def) => {
-            if let Some(slide) = &def.slide {
+            if cfg!(feature = "projector")
+                && let Some(slide) = &def.slide
+            {
                 scene.add_texture_named(slide.texname, &mut textures)?;
             }
             scene.add_light(&def)
@@ -553,6 +557,8 @@ fn to_item<'i>(block: &Block<'i>) -> Result<Item<'i>, ErrorKind> {
             )));
         }
         Entity::Projector => {
+            // First: a build without projectors leaves the rest out.
+            Feature::Projector.require(None)?;
             return Ok(Item::Light(LightDef::projector(
                 name,
                 block.numbers(Attr::Location)?,
@@ -582,6 +588,7 @@ fn to_item<'i>(block: &Block<'i>) -> Result<Item<'i>, ErrorKind> {
             ShapeDef::TexPlane(rect(block)?, block.word(Attr::Texname)?, mode(block)?)
         }
         Entity::RevSurf => {
+            Feature::RevSurf.require(None)?;
             let surfer = match block.numbers::<1>(Attr::Surfer)?[0] {
                 1.0 => Surfer::Cone,
                 2.0 => Surfer::Waist,

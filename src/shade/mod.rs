@@ -463,7 +463,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// beyond the hit: a projector lights only what is behind its slide).
     #[inline(always)]
     fn emission(&self, light: &Light<S>, towards: Vec3<S>, reach: S) -> Option<(Vec3<S>, Vec3<S>)> {
-        match light.slide.as_ref().filter(|_| cfg!(feature = "projector")) {
+        match light.slide() {
             None => Some((light.diffuse_emissivity, light.emissivity)),
             Some(slide) => {
                 let texel = self.slide_texel(light, slide, towards, reach)?;

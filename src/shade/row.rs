@@ -125,7 +125,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
             return None;
         }
         // A projector's light changes with its slide's texel from pixel to pixel.
-        if cfg!(feature = "projector") && self.lights.iter().any(|l| l.slide.is_some()) {
+        if self.lights.iter().any(|l| l.slide().is_some()) {
             return None;
         }
         let shadows = self.stages.illumination && self.stages.shadows;

@@ -47,6 +47,9 @@ struct Variant<'a> {
     plan: &'a str,
     /// Every microray feature (else the minimal build).
     full: bool,
+    /// With `full`: the course's later kinds too (the firmware's `extensions`, a default
+    /// feature); the footprint tables build `full` alone, the first assignments' language.
+    extensions: bool,
     /// The firmware's `release-small` profile (opt-level z) instead of `release`.
     small: bool,
     /// The optimisation level (`""`: the firmware's profile's).
@@ -441,6 +444,7 @@ pub(crate) fn measure(
             only: &options.only,
             plan: if options.compare_plan { "compare" } else { "" },
             full: !options.minimal,
+            extensions: !options.minimal,
             // The minimal build is built for size (the firmware's `release-small` profile).
             small: options.minimal,
         };
@@ -572,7 +576,10 @@ fn build_firmware(
     size: &str,
     variant: &Variant<'_>,
 ) -> Result<PathBuf, String> {
-    let features = format!("{},{}", build.feature, build.number);
+    let mut features = format!("{},{}", build.feature, build.number);
+    if variant.full && !variant.extensions {
+        features.push_str(",full");
+    }
     let (only, plan) = (variant.only, variant.plan);
     let dir = root.join("firmware");
     let conformance = conformance
@@ -604,7 +611,7 @@ fn build_firmware(
         "--features",
         &features,
     ];
-    if !variant.full {
+    if !variant.full || !variant.extensions {
         args.push("--no-default-features");
     }
     cargo(&args, &dir, &envs)?;
@@ -860,7 +867,9 @@ fn flash_by_part(root: &Path, conformance: Option<&Path>, size: &str) -> Result<
          point lights, ambient and diffuse light, the `basic` scene in Rust source compiled on \
          the host (`Scene::load_compiled`: no f64 arithmetic), no parser; built for size (the \
          firmware's `release-small` profile, opt-level z);\n\
-         - full, scenes in source: every feature, the `static` scene (tiled plane, texture, \
+         - full, scenes in source: every feature of the course's first assignments (the \
+         firmware's `full`; the later kinds, projectors and surfaces of revolution, are its \
+         `extensions` and are left out here as in every build of this table), the `static` scene (tiled plane, texture, \
          spotlight, glints) and `basic` in source, no parser linked;\n\
          - full + parser + spec0: every feature, the parser and one scene file (spec0, {spec0} \
          bytes of text), nothing else; with the `release` profile (opt-level 3, the speed \
@@ -883,6 +892,7 @@ fn flash_by_part(root: &Path, conformance: Option<&Path>, size: &str) -> Result<
                 only,
                 plan: "",
                 full,
+                extensions: false,
                 small,
                 opt_level: "",
             };

@@ -357,9 +357,17 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 return Vec3::ZERO;
             }
         }
-        let (emissivity, glint_emissivity) = match self.emission(light, -l, distance) {
-            Some(emission) => emission,
-            None => return Vec3::ZERO,
+        // A projector sends the texel of its slide that the way to the hit crosses (the
+        // course's order: emissivity times texel, then times the diffuse colour).
+        let (emissivity, glint_emissivity) = match light.slide() {
+            None => (light.diffuse_emissivity, light.emissivity),
+            Some(slide) => match self.slide_texel(light, slide, -l, distance) {
+                Some(texel) => (
+                    light.diffuse_emissivity.mul_each(texel),
+                    light.emissivity.mul_each(texel),
+                ),
+                None => return Vec3::ZERO,
+            },
         };
         let mut lit = diffuse.mul_each(emissivity);
         if cfg!(feature = "transparency") && self.stages.shadows && self.stages.filtered_shadows {
@@ -441,42 +449,36 @@ impl<'s, S: Scalar> Shader<'s, S> {
         if cfg!(feature = "spotlight") && light.spot.is_some() && !in_cone(light, to_light) {
             return None;
         }
-        let (emissivity, glint_emissivity) = self.emission(light, -to_light, S::ONE)?;
-        let mut lit = surface.diffuse.mul_each(emissivity);
+        let mut lit = surface.diffuse.mul_each(light.diffuse_emissivity);
         if cfg!(feature = "transparency") && self.stages.shadows && self.stages.filtered_shadows {
             lit = lit.mul_each(self.shadow_filter(hit.point, to_light, S::ONE, index)?);
         } else if self.stages.shadows && self.blocked(hit.point, to_light, index, light) {
             return None;
         }
+        // A projector: the texel of its slide that the way to the hit crosses, or no light.
+        // After the shadow test, out of the way of its loop (one load and a branch for
+        // other lights).
+        let texel = match light.slide() {
+            None => None,
+            Some(slide) => Some(self.slide_texel(light, slide, -to_light, S::ONE)?),
+        };
+        if let Some(texel) = texel {
+            lit = lit.mul_each(texel);
+        }
         let per_total = add_diffuse(lit, cos_d, d_squared, total, c);
         let material = surface.material;
         if cfg!(feature = "glint") && self.stages.glints && material.shininess != S::ZERO {
-            let emitted = glint_emissivity;
-            *c = *c + glint(emitted, material, hit.normal, ray.dir, to_light, per_total);
+            *c = *c
+                + glint(
+                    light, texel, material, hit.normal, ray.dir, to_light, per_total,
+                );
         }
         Some(per_total)
     }
 
-    /// What `light` sends along `towards` (from the light to a hit `reach` of it away): its
-    /// diffuse and glint emissivity, a projector's times the texel of its slide that the
-    /// way crosses; `None` when a projector's way misses the slide (or the slide lies
-    /// beyond the hit: a projector lights only what is behind its slide).
-    #[inline(always)]
-    fn emission(&self, light: &Light<S>, towards: Vec3<S>, reach: S) -> Option<(Vec3<S>, Vec3<S>)> {
-        match light.slide() {
-            None => Some((light.diffuse_emissivity, light.emissivity)),
-            Some(slide) => {
-                let texel = self.slide_texel(light, slide, towards, reach)?;
-                Some((
-                    light.diffuse_emissivity.mul_each(texel),
-                    light.emissivity.mul_each(texel),
-                ))
-            }
-        }
-    }
-
     /// The texel of a projector's slide where the way from the light along `towards`
-    /// crosses it before `reach`, if it does.
+    /// crosses it before `reach`, if it does: a projector lights only what lies behind its
+    /// slide.
     #[inline(never)]
     fn slide_texel(
         &self,
@@ -573,10 +575,12 @@ fn in_cone<S: Scalar>(light: &Light<S>, to_light: Vec3<S>) -> bool {
 
 /// A light's Blinn-Phong glint at a hit seen along `dir`, times `k` (the division by the
 /// distance travelled): `emissivity specular (h . n)^shininess`, the power kept as a wide
-/// number until the end (Q16.16's absolute step times a bright light is visible).
+/// number until the end (Q16.16's absolute step times a bright light is visible); a
+/// projector's emissivity times its slide's `texel`.
 #[inline(never)]
 fn glint<S: Scalar>(
-    emissivity: Vec3<S>,
+    light: &Light<S>,
+    texel: Option<Vec3<S>>,
     material: &Material<S>,
     normal: Vec3<S>,
     dir: Vec3<S>,
@@ -588,10 +592,16 @@ fn glint<S: Scalar>(
         .and_then(|l| (-dir).unit().and_then(|v| (v + l).unit()));
     let power = halfway.and_then(|h| h.dot(normal).pow_wide(material.shininess));
     match power {
-        Some(power) => scaled(
-            emissivity.mul_each(material.specular),
-            S::wide_mul(power, k),
-        ),
+        Some(power) => {
+            let emissivity = match texel {
+                Some(texel) => light.emissivity.mul_each(texel),
+                None => light.emissivity,
+            };
+            scaled(
+                emissivity.mul_each(material.specular),
+                S::wide_mul(power, k),
+            )
+        }
         None => Vec3::ZERO,
     }
 }

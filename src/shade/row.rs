@@ -378,14 +378,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
             }
             let per = add_diffuse(lit.lit, lit.cos_d, d_squared, total, &mut c);
             if cfg!(feature = "glint") && level.glints {
-                c = c + glint(
-                    light.emissivity,
-                    material,
-                    hit.normal,
-                    ray.dir,
-                    to_light,
-                    per,
-                );
+                c = c + glint(light, None, material, hit.normal, ray.dir, to_light, per);
             }
             per_total.get_or_insert(per);
         }

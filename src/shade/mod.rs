@@ -593,9 +593,10 @@ fn glint<S: Scalar>(
     let power = halfway.and_then(|h| h.dot(normal).pow_wide(material.shininess));
     match power {
         Some(power) => {
+            // `cfg!`: without projectors there is never a texel, and no code for one.
             let emissivity = match texel {
-                Some(texel) => light.emissivity.mul_each(texel),
-                None => light.emissivity,
+                Some(texel) if cfg!(feature = "projector") => light.emissivity.mul_each(texel),
+                _ => light.emissivity,
             };
             scaled(
                 emissivity.mul_each(material.specular),

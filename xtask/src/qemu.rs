@@ -37,6 +37,9 @@ pub(crate) struct Options {
     /// The optimisation level of the firmware build (`CARGO_PROFILE_RELEASE_OPT_LEVEL`),
     /// else the firmware's profile's.
     pub(crate) opt_level: Option<String>,
+    /// The full build without the course's later kinds (the firmware's `full` alone): what
+    /// the footprint tables measure.
+    pub(crate) without_extensions: bool,
 }
 
 /// What a firmware build embeds and enables.
@@ -221,6 +224,8 @@ fn measure_frame(
         build: Some(name.into()),
         opt_level: opt_level.map(str::to_string),
         minimal,
+        // A footprint: the first assignments' language, as the flash table.
+        without_extensions: true,
         ..Options::default()
     };
     let measured = measure(root, 320, 240, &options)?;
@@ -305,7 +310,7 @@ fn ram_by_part(root: &Path, all: &[Row]) -> Result<String, String> {
     ];
     let mut out = String::from(
         "\n## RAM by part: spec0 at 320x240\n\n\
-         Bytes, from `size_of` of each part in the firmware and its painted stack (the peaks \
+         Bytes, from `size_of` of each part in the firmware (its `full` build, as the flash table: the course's later kinds left out) and its painted stack (the peaks \
          include the scene and the harness's frames beneath the parser and the renderer; the \
          stack is painted again between parsing and rendering).\n\n| part |",
     );
@@ -444,7 +449,7 @@ pub(crate) fn measure(
             only: &options.only,
             plan: if options.compare_plan { "compare" } else { "" },
             full: !options.minimal,
-            extensions: !options.minimal,
+            extensions: !options.minimal && !options.without_extensions,
             // The minimal build is built for size (the firmware's `release-small` profile).
             small: options.minimal,
         };

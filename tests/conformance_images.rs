@@ -104,8 +104,8 @@ const LATER_SCENES: [(&str, f64, f64, f64); 5] = [
     // differ (the course's root finder is not known).
     ("revsurf/revsurfa", 99.8, 99.8, 44.0),
     ("revsurf/revsurfe", 99.6, 99.7, 44.0),
-    // Transparent vases: what the course's rays do inside a transparent vase is not
-    // recovered (see the README).
+    // Transparent mirroring vases: the course's mirror rays off them are not recovered
+    // (see the README).
     ("texplane/texplane5", 87.5, 90.5, 40.5),
 ];
 

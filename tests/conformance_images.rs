@@ -104,7 +104,8 @@ const LATER_SCENES: [(&str, f64, f64, f64); 5] = [
     // differ (the course's root finder is not known).
     ("revsurf/revsurfa", 99.8, 99.8, 44.0),
     ("revsurf/revsurfe", 99.6, 99.7, 44.0),
-    // Transparent mirroring vases: the course's mirror rays off them are not recovered
+    // Transparent mirroring vases: the course's mirror rays off them leave from the vase's
+    // last recorded hit, which its transmitted rays overwrite; microray does not copy that
     // (see the README).
     ("texplane/texplane5", 87.5, 90.5, 40.5),
 ];

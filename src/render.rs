@@ -33,6 +33,9 @@ use embedded_graphics::pixelcolor::Rgb888;
 use embedded_graphics::prelude::{DrawTarget, Point, Size};
 use embedded_graphics::primitives::Rectangle;
 
+mod progressive;
+pub use progressive::{BLOCKS, PassDone};
+
 /// Why rendering stopped short.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RenderError<E> {
@@ -70,6 +73,12 @@ pub enum Rendered {
     Stopped {
         /// Rows drawn.
         rows: u16,
+    },
+    /// The pass callback of a progressive render asked to stop after the pass that
+    /// filled blocks of this side (every pixel shows its block's colour).
+    StoppedAfterPass {
+        /// The side of the last pass's blocks.
+        block: u16,
     },
 }
 

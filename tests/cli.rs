@@ -167,3 +167,32 @@ fn compile_writes_the_scene_at_the_size_asked_for() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn render_progressive_writes_the_previews_and_the_same_image() {
+    let dir = std::env::temp_dir().join(format!("microray-cli-progressive-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/vases.txt");
+    let (plain, progressive) = (dir.join("plain.ppm"), dir.join("vases.ppm"));
+    for (out, extra) in [(&plain, None), (&progressive, Some("--progressive"))] {
+        let mut args = vec!["render", scene.to_str().unwrap(), "-q", "-o"];
+        args.push(out.to_str().unwrap());
+        args.extend(extra);
+        let run = microray(&args);
+        assert!(run.status.success(), "{}", text(&run.stderr));
+    }
+    assert_eq!(
+        std::fs::read(&plain).unwrap(),
+        std::fs::read(&progressive).unwrap()
+    );
+    for block in [8, 4, 2] {
+        let preview = std::fs::read(dir.join(format!("vases-{block}.ppm"))).unwrap();
+        assert_eq!(preview.len(), std::fs::read(&plain).unwrap().len());
+        assert_ne!(
+            preview,
+            std::fs::read(&plain).unwrap(),
+            "pass {block} is a preview"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -71,6 +71,10 @@ enum Command {
         /// against every object (the same image, for comparison).
         #[arg(long)]
         no_plan: bool,
+        /// Render in the progressive order (8x8 blocks, 4x4, 2x2, every pixel; the same
+        /// image) and write each preview pass too, as OUT-8, OUT-4 and OUT-2 beside OUT.
+        #[arg(long)]
+        progressive: bool,
     },
 }
 
@@ -115,6 +119,7 @@ fn main() -> ExitCode {
             shade,
             quiet,
             no_plan,
+            progressive,
         } => {
             let options = Options {
                 shading: match shade {
@@ -123,6 +128,7 @@ fn main() -> ExitCode {
                 },
                 quiet: *quiet,
                 planned: !no_plan,
+                progressive: *progressive,
             };
             match number {
                 Number::F64 => render::<f64>(scene, output, &options),
@@ -255,6 +261,7 @@ fn compile<S: Scalar>(path: &Path, output: &Path, size: Option<(u16, u16)>) -> R
     Ok(())
 }
 
+#[derive(Clone, Copy)]
 enum Format {
     Ppm,
     Png,
@@ -264,6 +271,7 @@ struct Options {
     shading: Shading,
     quiet: bool,
     planned: bool,
+    progressive: bool,
 }
 
 fn render<S: Scalar>(path: &Path, output: &Path, options: &Options) -> Result<(), String> {
@@ -291,38 +299,52 @@ fn render<S: Scalar>(path: &Path, output: &Path, options: &Options) -> Result<()
     let mut row = vec![Default::default(); size.width as usize];
     let area = embedded_graphics::primitives::Rectangle::new(Default::default(), size);
     let start = Instant::now();
-    let mut bar: Option<ProgressBar> = None;
-    let result = renderer.render_area(&mut image, area, &mut row, |done| {
-        // Only renders that take more than a moment get a bar.
-        if !quiet && bar.is_none() && start.elapsed() > Duration::from_millis(300) {
-            let b = ProgressBar::with_draw_target(
-                Some(u64::from(done.total)),
-                ProgressDrawTarget::stderr(),
-            );
-            let style = ProgressStyle::with_template("{bar:40} {pos}/{len} rows, {eta} left");
-            b.set_style(style.unwrap_or_else(|_| ProgressStyle::default_bar()));
-            bar = Some(b);
+    if options.progressive {
+        for (pass, block) in microray::render::BLOCKS.iter().enumerate() {
+            renderer
+                .render_pass(&mut image, &mut row, pass)
+                .map_err(|e| format!("{}: error: {e}", path.display()))?;
+            if *block > 1 {
+                let stem = output.file_stem().and_then(|s| s.to_str()).unwrap_or("out");
+                let preview = output.with_file_name(format!(
+                    "{stem}-{block}.{}",
+                    extension.as_deref().unwrap_or("png")
+                ));
+                write_image(&image, format, &preview)?;
+            }
         }
-        if let Some(b) = &bar {
-            b.set_position(u64::from(done.done));
+    } else {
+        let mut bar: Option<ProgressBar> = None;
+        let result = renderer.render_area(&mut image, area, &mut row, |done| {
+            // Only renders that take more than a moment get a bar.
+            if !quiet && bar.is_none() && start.elapsed() > Duration::from_millis(300) {
+                let b = ProgressBar::with_draw_target(
+                    Some(u64::from(done.total)),
+                    ProgressDrawTarget::stderr(),
+                );
+                let style = ProgressStyle::with_template("{bar:40} {pos}/{len} rows, {eta} left");
+                b.set_style(style.unwrap_or_else(|_| ProgressStyle::default_bar()));
+                bar = Some(b);
+            }
+            if let Some(b) = &bar {
+                b.set_position(u64::from(done.done));
+            }
+            ControlFlow::Continue(())
+        });
+        if let Some(b) = bar {
+            b.finish_and_clear();
         }
-        ControlFlow::Continue(())
-    });
-    if let Some(b) = bar {
-        b.finish_and_clear();
+        result.map_err(|e| format!("{}: error: {e}", path.display()))?;
     }
-    result.map_err(|e| format!("{}: error: {e}", path.display()))?;
-    let bytes = match format {
-        Format::Ppm => image.to_ppm(),
-        Format::Png => image
-            .to_png()
-            .map_err(|e| format!("{}: error: PNG encoding failed: {e}", output.display()))?,
-    };
-    std::fs::write(output, bytes)
-        .map_err(|e| format!("{}: error: cannot write: {e}", output.display()))?;
+    write_image(&image, format, output)?;
     if !quiet {
+        let order = if options.progressive {
+            "progressive, "
+        } else {
+            ""
+        };
         eprintln!(
-            "{}: {}x{} in {:.2} s ({}) -> {}",
+            "{}: {}x{} in {:.2} s ({order}{}) -> {}",
             path.display(),
             size.width,
             size.height,
@@ -332,4 +354,16 @@ fn render<S: Scalar>(path: &Path, output: &Path, options: &Options) -> Result<()
         );
     }
     Ok(())
+}
+
+/// Writes an image in `format` to `output`.
+fn write_image(image: &Framebuffer, format: Format, output: &Path) -> Result<(), String> {
+    let bytes = match format {
+        Format::Ppm => image.to_ppm(),
+        Format::Png => image
+            .to_png()
+            .map_err(|e| format!("{}: error: PNG encoding failed: {e}", output.display()))?,
+    };
+    std::fs::write(output, bytes)
+        .map_err(|e| format!("{}: error: cannot write: {e}", output.display()))
 }

@@ -1,0 +1,249 @@
+//! Progressive rendering: the whole picture early, then refined, every pixel traced once.
+//!
+//! Pass 1 traces one pixel in every 8x8 block (its top-left one) and fills the block with
+//! it; pass 2 the top-left pixel of every 4x4 block that pass 1 did not trace, filling 4x4
+//! blocks; then 2x2; then every pixel left, one by one. A block never covers a pixel an
+//! earlier pass traced (it lies in its own quarter of the block before), so when the last
+//! pass ends every pixel holds its own colour: the image of
+//! [`render_area`](super::Renderer::render_area), bit for bit (tests/progressive.rs checks
+//! every scene in every number type).
+//!
+//! Each pixel is shaded as the plain order shades it: a row's plan (its object list, its
+//! objects' row tests and, where its pixels share a plane, its row shading) is prepared
+//! once per row and pass, and the rows the last pass traces whole are rendered as
+//! `render_area` renders rows, into the row buffer and out with one `fill_contiguous`.
+//! Pass 1 traces 1/64 of the pixels, pass 2 3/64, pass 3 12/64; the last pass traces the
+//! odd rows whole (1/2) and the odd pixels of the even rows (1/4).
+
+use super::{RenderError, Rendered, Renderer, bytes};
+use crate::camera::RowRays;
+use crate::object::{Among, RowEntry};
+use crate::scalar::Scalar;
+use crate::shade::{RowShading, Shader, ShadowCache};
+use crate::vec3::Vec3;
+use core::ops::ControlFlow;
+use embedded_graphics::pixelcolor::Rgb888;
+use embedded_graphics::prelude::{DrawTarget, Point, Size};
+use embedded_graphics::primitives::Rectangle;
+
+/// The block sides of the passes, largest first.
+pub const BLOCKS: [u16; 4] = [8, 4, 2, 1];
+
+/// Sent to the pass callback after each pass is on the target.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PassDone {
+    /// The side of the blocks this pass filled (1: the last pass, every pixel its own).
+    pub block: u16,
+    /// Passes done so far, from 1.
+    pub done: u8,
+    /// Passes in all.
+    pub total: u8,
+}
+
+/// What a row's traced pixels share.
+enum RowWork<'r, S: Scalar, const OBJECTS: usize> {
+    /// The plan's objects and their row tests, and the row's shading when its pixels share
+    /// a plane.
+    Planned(
+        heapless::Vec<RowEntry<S>, OBJECTS>,
+        Option<RowShading<'r, S>>,
+    ),
+    /// Every object, every pixel alone (no plan).
+    All,
+}
+
+impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
+    /// Renders the whole image into `target` progressively: four passes ([`BLOCKS`]), each on the target when `on_pass` is called,
+    /// the last one leaving exactly the image [`render_area`](Self::render_area) draws.
+    /// `row` is the row buffer (at least the image's width); returning
+    /// `ControlFlow::Break` from `on_pass` stops after that pass. No heap: the pixels
+    /// traced earlier stay on the target, not in memory.
+    ///
+    /// ```
+    /// use core::ops::ControlFlow;
+    /// use embedded_graphics::{mock_display::MockDisplay, pixelcolor::Rgb888, prelude::*};
+    /// use microray::{parse::{no_textures, parse_scene}, render::Renderer, Scene};
+    ///
+    /// let text = b"camera c { pixeldim 16 12 worlddim 8 6 viewpoint 4 3 4 }
+    ///              material red { ambient 2 0 0 diffuse 4 0 0 }
+    ///              sphere ball { material red center 4 3 -6 radius 2 }";
+    /// let scene: Scene<f32, 4, 2, 1, 0, 16> = parse_scene(text, no_textures)?;
+    /// let renderer = Renderer::new(&scene);
+    /// let mut display: MockDisplay<Rgb888> = MockDisplay::new();
+    /// display.set_allow_overdraw(true);
+    /// let mut row = [Rgb888::BLACK; 16];
+    /// let mut blocks = Vec::new();
+    /// renderer.render_progressive(&mut display, &mut row, |pass| {
+    ///     blocks.push(pass.block);
+    ///     ControlFlow::Continue(())
+    /// })?;
+    /// assert_eq!(blocks, [8, 4, 2, 1]);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn render_progressive<D>(
+        &self,
+        target: &mut D,
+        row: &mut [D::Color],
+        mut on_pass: impl FnMut(PassDone) -> ControlFlow<()>,
+    ) -> Result<Rendered, RenderError<D::Error>>
+    where
+        D: DrawTarget,
+        D::Color: From<Rgb888>,
+    {
+        let total = BLOCKS.len() as u8;
+        for (pass, &block) in BLOCKS.iter().enumerate() {
+            self.render_pass(target, row, pass)?;
+            let done = PassDone {
+                block,
+                done: pass as u8 + 1,
+                total,
+            };
+            if on_pass(done).is_break() && block != 1 {
+                return Ok(Rendered::StoppedAfterPass { block });
+            }
+        }
+        Ok(Rendered::Complete)
+    }
+
+    /// Pass `pass` (0 to 3) of [`render_progressive`](Self::render_progressive) alone, for a
+    /// caller that shows the target between passes (a window, a panel's refresh); the
+    /// passes must run in order. A pass past the last draws nothing.
+    pub fn render_pass<D>(
+        &self,
+        target: &mut D,
+        row: &mut [D::Color],
+        pass: usize,
+    ) -> Result<(), RenderError<D::Error>>
+    where
+        D: DrawTarget,
+        D::Color: From<Rgb888>,
+    {
+        let (width, height) = (self.camera.width(), self.camera.height());
+        let len = row.len();
+        let row = row
+            .get_mut(..usize::from(width))
+            .ok_or(RenderError::RowBufferTooSmall {
+                needed: usize::from(width),
+                len,
+            })?;
+        let Some(&block) = BLOCKS.get(pass) else {
+            return Ok(());
+        };
+        let cache = ShadowCache::new();
+        let shader = self.shader().with_shadow_cache(&cache);
+        // The previous pass's block: its grid's pixels are traced already.
+        let coarser = if pass == 0 { 0 } else { block * 2 };
+        let mut y = 0;
+        while y < height {
+            // A row of the coarser grid keeps its traced pixels: only the ones between.
+            let new_row = coarser == 0 || y % coarser != 0;
+            if block == 1 && new_row {
+                self.whole_row(&shader, target, y, row)?;
+            } else {
+                let (first, stride) = if new_row {
+                    (0, block)
+                } else {
+                    (block, coarser)
+                };
+                self.row_of_blocks(&shader, target, y, first, stride, block)?;
+            }
+            y = y.saturating_add(block);
+        }
+        Ok(())
+    }
+
+    /// The primary rays of image row `y` (0 the top), and what its traced pixels share
+    /// (see [`RowWork`]).
+    fn row_work<'r>(
+        &self,
+        shader: &Shader<'r, S>,
+        y: u16,
+    ) -> (RowRays<S>, RowWork<'r, S, OBJECTS>) {
+        let camera_y = self.camera.height().saturating_sub(1).saturating_sub(y);
+        let rays = self.camera.row_rays(camera_y, 0);
+        let work = match self.row_tests(camera_y, &rays) {
+            Some(tests) => {
+                let shading = self.row_shading(shader, &tests, &rays);
+                RowWork::Planned(tests, shading)
+            }
+            None => RowWork::All,
+        };
+        (rays, work)
+    }
+
+    /// Traces the pixels of image row `y` from `first`, `stride` apart, and fills a
+    /// `block`-sided square from each.
+    fn row_of_blocks<D>(
+        &self,
+        shader: &Shader<'_, S>,
+        target: &mut D,
+        y: u16,
+        first: u16,
+        stride: u16,
+        block: u16,
+    ) -> Result<(), RenderError<D::Error>>
+    where
+        D: DrawTarget,
+        D::Color: From<Rgb888>,
+    {
+        let (rays, work) = self.row_work(shader, y);
+        let width = self.camera.width();
+        let size = self.size();
+        let traced = (0..width).zip(rays).skip(usize::from(first));
+        for (x, ray) in traced.step_by(usize::from(stride.max(1))) {
+            let color = match &work {
+                RowWork::Planned(tests, Some(shading)) => {
+                    bytes(ray.map_or(Vec3::ZERO, |ray| shader.shade_in_row(shading, tests, &ray)))
+                }
+                RowWork::Planned(tests, None) => self.color_in_row(shader, ray, tests),
+                RowWork::All => self.color(shader, ray, Among::All),
+            };
+            let square = Rectangle::new(
+                Point::new(i32::from(x), i32::from(y)),
+                Size::new(u32::from(block), u32::from(block)),
+            )
+            .intersection(&Rectangle::new(Point::zero(), size));
+            target
+                .fill_solid(&square, color.into())
+                .map_err(RenderError::Target)?;
+        }
+        Ok(())
+    }
+
+    /// Image row `y` whole, as [`render_area`](Self::render_area) renders a row.
+    fn whole_row<D>(
+        &self,
+        shader: &Shader<'_, S>,
+        target: &mut D,
+        y: u16,
+        row: &mut [D::Color],
+    ) -> Result<(), RenderError<D::Error>>
+    where
+        D: DrawTarget,
+        D::Color: From<Rgb888>,
+    {
+        let (rays, work) = self.row_work(shader, y);
+        match work {
+            RowWork::Planned(tests, Some(shading)) => {
+                super::shade_row(shader, &shading, &tests, rays, row);
+            }
+            RowWork::Planned(tests, None) => {
+                for (slot, ray) in row.iter_mut().zip(rays) {
+                    *slot = self.color_in_row(shader, ray, &tests).into();
+                }
+            }
+            RowWork::All => {
+                for (slot, ray) in row.iter_mut().zip(rays) {
+                    *slot = self.color(shader, ray, Among::All).into();
+                }
+            }
+        }
+        let line = Rectangle::new(
+            Point::new(0, i32::from(y)),
+            Size::new(u32::from(self.camera.width()), 1),
+        );
+        target
+            .fill_contiguous(&line, row.iter().copied())
+            .map_err(RenderError::Target)
+    }
+}

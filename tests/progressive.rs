@@ -1,0 +1,158 @@
+//! Progressive rendering: for every scene (the project's, the course's and its later ones,
+//! the stress scenes) in every number type, the progressive order leaves exactly the image
+//! of the plain order, tracing every pixel once; each pass covers the whole image.
+
+mod common;
+
+use embedded_graphics::pixelcolor::Rgb888;
+use embedded_graphics::prelude::*;
+use embedded_graphics::primitives::Rectangle;
+use microray::Scalar;
+use microray::host::{Framebuffer, HostRenderer, HostScene, texture_files};
+use microray::parse::parse_scene;
+use microray::render::{BLOCKS, Rendered, Renderer};
+use microray::scalar::I16F16;
+use std::ops::ControlFlow;
+use std::path::{Path, PathBuf};
+
+/// A framebuffer that counts the pixels each kind of call writes.
+struct Counting {
+    frame: Framebuffer,
+    /// Pixels traced: one per `fill_solid` (a block's own pixel), one per pixel of a
+    /// `fill_contiguous` row.
+    traced: usize,
+    /// The pixels written at least once so far.
+    covered: Vec<bool>,
+}
+
+impl OriginDimensions for Counting {
+    fn size(&self) -> Size {
+        self.frame.size()
+    }
+}
+
+impl Counting {
+    fn cover(&mut self, area: &Rectangle) {
+        let width = self.frame.size().width as usize;
+        for p in area.points() {
+            self.covered[p.y as usize * width + p.x as usize] = true;
+        }
+    }
+}
+
+impl DrawTarget for Counting {
+    type Color = Rgb888;
+    type Error = core::convert::Infallible;
+    fn draw_iter<I: IntoIterator<Item = Pixel<Rgb888>>>(
+        &mut self,
+        _: I,
+    ) -> Result<(), Self::Error> {
+        panic!("the progressive order writes blocks and rows only");
+    }
+    fn fill_solid(&mut self, area: &Rectangle, color: Rgb888) -> Result<(), Self::Error> {
+        self.traced += 1;
+        self.cover(area);
+        self.frame.fill_solid(area, color)
+    }
+    fn fill_contiguous<I: IntoIterator<Item = Rgb888>>(
+        &mut self,
+        area: &Rectangle,
+        colors: I,
+    ) -> Result<(), Self::Error> {
+        self.traced += area.size.width as usize * area.size.height as usize;
+        self.cover(area);
+        self.frame.fill_contiguous(area, colors)
+    }
+}
+
+fn scenes() -> Vec<PathBuf> {
+    let mut all = common::project_scenes();
+    all.extend(common::scene_files(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/stress"),
+    ));
+    if let Some(dir) = common::conformance_dir() {
+        all.extend(common::scene_files(&dir));
+    }
+    if let Some(dir) = common::course_extensions_dir() {
+        all.extend(common::scene_files(&dir));
+    }
+    all
+}
+
+fn check<S: Scalar>(path: &Path) {
+    let text = std::fs::read(path).unwrap();
+    let Ok(scene) = parse_scene::<S, _, _, _, _, _>(&text, texture_files(path.parent().unwrap()))
+    else {
+        // A scene the type cannot hold (tests/stress.rs checks that it says so).
+        return;
+    };
+    let scene: HostScene<'_, S> = scene;
+    let renderer: HostRenderer<'_, S> = Renderer::new(&scene);
+    let size = renderer.size();
+    let mut plain = Framebuffer::new(size);
+    let mut row = vec![Rgb888::BLACK; size.width as usize];
+    let all = Rectangle::new(Point::zero(), size);
+    renderer
+        .render_area(&mut plain, all, &mut row, |_| ControlFlow::Continue(()))
+        .unwrap();
+    let mut progressive = Counting {
+        frame: Framebuffer::new(size),
+        traced: 0,
+        covered: vec![false; (size.width * size.height) as usize],
+    };
+    let mut passes = Vec::new();
+    let done = renderer
+        .render_progressive(&mut progressive, &mut row, |pass| {
+            passes.push(pass.block);
+            ControlFlow::Continue(())
+        })
+        .unwrap();
+    assert_eq!(done, Rendered::Complete);
+    let name = format!("{} in {}", path.display(), S::NAME);
+    assert_eq!(passes, BLOCKS, "{name}");
+    assert_eq!(
+        progressive.traced,
+        (size.width * size.height) as usize,
+        "{name}: every pixel traced once"
+    );
+    assert!(progressive.covered.iter().all(|&c| c), "{name}");
+    assert!(
+        progressive.frame.rgb() == plain.rgb(),
+        "{name}: the progressive image differs from the plain one"
+    );
+}
+
+#[test]
+fn the_progressive_order_gives_the_plain_image_in_every_type() {
+    let files = scenes();
+    assert!(files.len() >= 20, "{} scenes", files.len());
+    for path in &files {
+        check::<f64>(path);
+        check::<f32>(path);
+        check::<I16F16>(path);
+    }
+}
+
+#[test]
+fn the_first_pass_covers_the_image() {
+    // Stop after the first pass: every pixel is written, with 1/64 of them traced.
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/vases.txt");
+    let text = std::fs::read(&path).unwrap();
+    let scene: HostScene<'_, f32> =
+        parse_scene(&text, texture_files(path.parent().unwrap())).unwrap();
+    let renderer: HostRenderer<'_, f32> = Renderer::new(&scene);
+    let size = renderer.size();
+    let mut target = Counting {
+        frame: Framebuffer::new(size),
+        traced: 0,
+        covered: vec![false; (size.width * size.height) as usize],
+    };
+    let mut row = vec![Rgb888::BLACK; size.width as usize];
+    let done = renderer
+        .render_progressive(&mut target, &mut row, |_| ControlFlow::Break(()))
+        .unwrap();
+    assert_eq!(done, Rendered::StoppedAfterPass { block: 8 });
+    assert!(target.covered.iter().all(|&c| c));
+    let blocks = size.width.div_ceil(8) * size.height.div_ceil(8);
+    assert_eq!(target.traced, blocks as usize);
+}

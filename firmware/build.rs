@@ -35,6 +35,9 @@ fn main() {
     println!("cargo:rerun-if-env-changed=MICRORAY_FW_PLAN");
     // `compare`: each scene is rendered twice, with the render plan and without.
     let compare_plan = env::var("MICRORAY_FW_PLAN").is_ok_and(|v| v == "compare");
+    // `progressive`: each scene is rendered plainly, then in the progressive order into a
+    // frame in RAM, counting the first pass and the rest apart (the M4F board only).
+    let progressive = env::var("MICRORAY_FW_PLAN").is_ok_and(|v| v == "progressive");
     // Objects a scene holds: the micro:bit's 16 KiB of RAM has room for a few; the MPS2
     // board's 4 MiB for the project's scene of a hundred spheres.
     let objects: usize = if microbit { 6 } else { 128 };
@@ -150,6 +153,7 @@ fn main() {
          pub const OBJECTS: usize = {objects};\npub const MATERIALS: usize = {materials};\n\
          pub const LIGHTS: usize = {lights};\npub const TEXTURES: usize = {textures};\n\
          pub const COMPARE_PLAN: bool = {compare_plan};\n\
+         pub const PROGRESSIVE: bool = {progressive};\n\
          pub const RUN_STATIC: bool = {run_static};\npub const RUN_BASIC: bool = {run_basic};\n\
          {table}{skipped}"
     );

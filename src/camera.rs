@@ -71,14 +71,15 @@ fn signed_raw<S: Scalar>(value: S) -> i64 {
     (value.to_raw() << unused) as i64 >> unused
 }
 
-/// The positions `world * i / n` along one axis for `i = first, first + 1, ...`, as the
-/// number type's [`PixelSteps`] finds them.
+/// The positions `world * i / n` along one axis for `i = first, first + stride, ...`, as
+/// the number type's [`PixelSteps`] finds them (the same values whatever the stride).
 #[derive(Clone, Debug)]
 struct Positions<S> {
     world: S,
     n: u16,
     i: u16,
-    /// `Multiply`: `world / n`. `Exact`: `floor(world / n)` in the type's steps.
+    stride: u16,
+    /// `Multiply`: `world / n`. `Exact`: `floor(world stride / n)` in the type's steps.
     step: S,
     /// `Exact`: the next position, the type's smallest step, and the remainders (in
     /// those steps) of the position and of the step, below `n`.
@@ -89,11 +90,13 @@ struct Positions<S> {
 }
 
 impl<S: Scalar> Positions<S> {
-    fn new(world: S, n: u16, first: u16) -> Self {
+    fn new(world: S, n: u16, first: u16, stride: u16) -> Self {
+        let stride = stride.max(1);
         let mut positions = Self {
             world,
             n,
             i: first,
+            stride,
             step: S::ZERO,
             value: S::ZERO,
             bump: S::ZERO,
@@ -107,7 +110,7 @@ impl<S: Scalar> Positions<S> {
                 // In steps of the type's resolution every value is an integer below 2^31,
                 // so these products (below 2^47) and differences are exact in i64.
                 let n = n.max(1);
-                positions.step = world.mul_ratio(1, n);
+                positions.step = world.mul_ratio(stride, n);
                 positions.value = world.mul_ratio(first, n);
                 positions.bump = S::from_raw(1);
                 // Within 0..n for every window the loaders accept; clamped there for any
@@ -117,7 +120,7 @@ impl<S: Scalar> Positions<S> {
                         signed_raw(world) * i64::from(count) - signed_raw(value) * i64::from(n);
                     exact.clamp(0, i64::from(n) - 1) as u32
                 };
-                positions.remainder_step = remainder(1, positions.step);
+                positions.remainder_step = remainder(stride, positions.step);
                 positions.remainder = remainder(first, positions.value);
             }
         }
@@ -128,7 +131,7 @@ impl<S: Scalar> Positions<S> {
     #[inline]
     fn next_position(&mut self) -> S {
         let i = self.i;
-        self.i = self.i.saturating_add(1);
+        self.i = self.i.saturating_add(self.stride);
         match S::PIXEL_STEPS {
             PixelSteps::Course => self.world.mul_ratio(i, self.n),
             PixelSteps::Multiply => self.step * S::from_i32(i32::from(i)),
@@ -314,15 +317,23 @@ impl<S: Scalar> Camera<S> {
     /// In `f64` each is normalised, as the course does; the other types leave the direction
     /// from the eye to the pixel as it is (see [`Ray`]).
     pub fn row_rays(&self, y: u16, first: u16) -> RowRays<S> {
+        self.row_rays_every(y, first, 1)
+    }
+
+    /// The primary rays of row `y` at columns `first`, `first + stride`, ...: the same rays
+    /// as [`row_rays`](Self::row_rays) gives for those pixels, bit for bit, without
+    /// computing the ones between (the progressive order's sparse passes).
+    pub fn row_rays_every(&self, y: u16, first: u16, stride: u16) -> RowRays<S> {
         let [world_x, world_y] = self.world;
         let height = self.height.saturating_sub(1);
         let on_screen_y = world_y.mul_ratio(y, height);
+        let stride = stride.max(1);
         RowRays {
             eye: self.viewpoint,
             dy: on_screen_y - self.viewpoint.y,
             dz: S::ZERO - self.viewpoint.z,
-            x: Positions::new(world_x, self.width.saturating_sub(1), first),
-            left: self.width.saturating_sub(first),
+            x: Positions::new(world_x, self.width.saturating_sub(1), first, stride),
+            left: self.width.saturating_sub(first).div_ceil(stride),
         }
     }
 
@@ -345,7 +356,8 @@ mod tests {
     #[test]
     fn exact_steps_are_the_course_positions() {
         // Stepping (integer and remainder parts, in the type's steps) gives world * i / n as
-        // the course computes each, for widths and windows of every size and any first pixel.
+        // the course computes each, for widths and windows of every size, any first pixel
+        // and any stride (the progressive order's).
         let mut seed = 0x2545_f491_4f6c_dd1d_u64;
         for _ in 0..2000 {
             seed ^= seed << 13;
@@ -354,12 +366,13 @@ mod tests {
             let world = I16F16::from_raw(seed % (1 << 31));
             let n = 1 + (seed >> 32) as u16 % 1024;
             let first = (seed >> 48) as u16 % n;
-            let mut positions = Positions::new(world, n, first);
-            for i in first..n.min(first + 64) {
+            let stride = 1 + (seed >> 40) as u16 % 8;
+            let mut positions = Positions::new(world, n, first, stride);
+            for i in (first..n.min(first + 64 * stride)).step_by(usize::from(stride)) {
                 assert_eq!(
                     positions.next_position(),
                     world.mul_ratio(i, n),
-                    "world {world:?} i {i} n {n}"
+                    "world {world:?} i {i} n {n} stride {stride}"
                 );
             }
         }

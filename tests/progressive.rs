@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
 struct Counting {
     frame: Framebuffer,
     /// Pixels traced: one per `fill_solid` (a block's own pixel), one per pixel of a
-    /// `fill_contiguous` row.
+    /// `fill_contiguous` row or of a `draw_iter`.
     traced: usize,
     /// The pixels written at least once so far.
     covered: Vec<bool>,
@@ -45,9 +45,15 @@ impl DrawTarget for Counting {
     type Error = core::convert::Infallible;
     fn draw_iter<I: IntoIterator<Item = Pixel<Rgb888>>>(
         &mut self,
-        _: I,
+        pixels: I,
     ) -> Result<(), Self::Error> {
-        panic!("the progressive order writes blocks and rows only");
+        for Pixel(p, color) in pixels {
+            let one = Rectangle::new(p, Size::new(1, 1));
+            self.traced += 1;
+            self.cover(&one);
+            self.frame.fill_solid(&one, color)?;
+        }
+        Ok(())
     }
     fn fill_solid(&mut self, area: &Rectangle, color: Rgb888) -> Result<(), Self::Error> {
         self.traced += 1;

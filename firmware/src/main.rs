@@ -21,7 +21,7 @@ use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, syscall};
 use embedded_graphics::pixelcolor::{PixelColor, Rgb888, RgbColor};
 use embedded_graphics::prelude::Point;
-use embedded_graphics::prelude::{DrawTarget, OriginDimensions, Pixel, Size};
+use embedded_graphics::prelude::{DrawTarget, OriginDimensions, Pixel, PointsIter, Size};
 use embedded_graphics::primitives::Rectangle;
 use microray::Scene;
 #[cfg(feature = "full")]
@@ -52,7 +52,8 @@ use scenes::RUN_STATIC;
 #[cfg(feature = "full")]
 use scenes::SCENES;
 use scenes::{
-    COMPARE_PLAN, HEIGHT, LIGHTS, MATERIALS, OBJECTS, RUN_BASIC, SKIPPED, TEXTURES, WIDTH,
+    COMPARE_PLAN, HEIGHT, LIGHTS, MATERIALS, OBJECTS, PROGRESSIVE, RUN_BASIC, SKIPPED, TEXTURES,
+    WIDTH,
 };
 
 /// Capacities that hold every embedded scene and no more (build.rs counts them, and leaves
@@ -192,7 +193,121 @@ fn render_scene(name: &str, scene: &FirmwareScene) -> Result<(), &'static str> {
         stack::paint();
         render_frame(name, "+noplan", scene, false)?;
     }
+    if PROGRESSIVE {
+        report_frame(name, "", Ok(()));
+        stack::paint();
+        render_progressive(name, scene)?;
+    }
     Ok(())
+}
+
+/// A frame in RAM for the progressive order's blocks (a panel takes them directly); its
+/// writes are not counted, as the plain frame's row output is not.
+struct Frame<'f> {
+    pixels: &'f mut [Rgb],
+}
+
+impl OriginDimensions for Frame<'_> {
+    fn size(&self) -> Size {
+        Size::new(u32::from(WIDTH), u32::from(HEIGHT))
+    }
+}
+
+impl DrawTarget for Frame<'_> {
+    type Color = Rgb;
+    type Error = ();
+
+    fn draw_iter<I: IntoIterator<Item = Pixel<Rgb>>>(&mut self, pixels: I) -> Result<(), ()> {
+        // Counted: the renderer shades each pixel as the iterator is pulled (the stores
+        // are a few instructions of it).
+        for Pixel(p, c) in pixels {
+            if let Some(slot) = self
+                .pixels
+                .get_mut(p.y as usize * WIDTH as usize + p.x as usize)
+            {
+                *slot = c;
+            }
+        }
+        Ok(())
+    }
+
+    fn fill_solid(&mut self, area: &Rectangle, color: Rgb) -> Result<(), ()> {
+        microray_count_stop();
+        for p in area.points() {
+            if let Some(slot) = self
+                .pixels
+                .get_mut(p.y as usize * WIDTH as usize + p.x as usize)
+            {
+                *slot = color;
+            }
+        }
+        microray_count_start();
+        Ok(())
+    }
+
+    fn fill_contiguous<I: IntoIterator<Item = Rgb>>(
+        &mut self,
+        area: &Rectangle,
+        colors: I,
+    ) -> Result<(), ()> {
+        microray_count_stop();
+        for (p, c) in area.points().zip(colors) {
+            if let Some(slot) = self
+                .pixels
+                .get_mut(p.y as usize * WIDTH as usize + p.x as usize)
+            {
+                *slot = c;
+            }
+        }
+        microray_count_start();
+        Ok(())
+    }
+}
+
+/// Renders a scene in the progressive order into a frame in RAM: the first pass counted as
+/// `<name>+preview`, the other three as `<name>+progressive`; the final frame goes to both
+/// files.
+#[inline(never)]
+fn render_progressive(name: &str, scene: &FirmwareScene) -> Result<(), &'static str> {
+    let mut pixels = [Rgb::default(); WIDTH as usize * HEIGHT as usize];
+    let mut frame = Frame {
+        pixels: &mut pixels,
+    };
+    let mut row = [Rgb::default(); WIDTH as usize];
+    let renderer = Renderer::new(scene);
+    microray_count_start();
+    let first = renderer.render_pass(&mut frame, &mut row, 0);
+    microray_count_stop();
+    microray_count_frame();
+    report_frame(name, "+preview", first.map_err(|_| "render failed"));
+    microray_count_start();
+    let mut rest = Ok(());
+    for pass in 1..microray::render::BLOCKS.len() {
+        rest = rest.and(renderer.render_pass(&mut frame, &mut row, pass));
+    }
+    microray_count_stop();
+    microray_count_frame();
+    for suffix in ["+preview", "+progressive"] {
+        let mut file = [0u8; 56];
+        let len = name.len().min(40);
+        file[..len].copy_from_slice(&name.as_bytes()[..len]);
+        file[len..len + suffix.len()].copy_from_slice(suffix.as_bytes());
+        let handle = open(&file[..len + suffix.len()]);
+        if handle == usize::MAX {
+            return Err("cannot open the output file");
+        }
+        let out = RowFile { handle };
+        for line in pixels.chunks(CHUNK) {
+            let mut bytes = [0u8; 3 * CHUNK];
+            for (i, c) in line.iter().enumerate() {
+                bytes[3 * i..3 * i + 3].copy_from_slice(&c.0);
+            }
+            out.write(&bytes[..3 * line.len()])
+                .map_err(|()| "cannot write the output file")?;
+        }
+        unsafe { syscall!(CLOSE, handle) };
+    }
+    rest.map_err(|_| "render failed")
 }
 
 #[inline(never)]
@@ -230,7 +345,14 @@ fn render_frame(
 
 /// Reports the last frame of a scene: `+noplan` is the frame without the plan.
 fn report(name: &str, result: Result<(), &str>) {
-    report_frame(name, if COMPARE_PLAN { "+noplan" } else { "" }, result);
+    let suffix = if COMPARE_PLAN {
+        "+noplan"
+    } else if PROGRESSIVE {
+        "+progressive"
+    } else {
+        ""
+    };
+    report_frame(name, suffix, result);
 }
 
 /// The peak stack of parsing the last scene file (0 for scenes in source): the stack is

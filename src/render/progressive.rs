@@ -23,7 +23,7 @@ use crate::shade::{RowShading, Shader, ShadowCache};
 use crate::vec3::Vec3;
 use core::ops::ControlFlow;
 use embedded_graphics::pixelcolor::Rgb888;
-use embedded_graphics::prelude::{DrawTarget, Point, Size};
+use embedded_graphics::prelude::{DrawTarget, Pixel, Point, Size};
 use embedded_graphics::primitives::Rectangle;
 
 /// The block sides of the passes, largest first.
@@ -40,14 +40,12 @@ pub struct PassDone {
     pub total: u8,
 }
 
-/// What a row's traced pixels share.
-enum RowWork<'r, S: Scalar, const OBJECTS: usize> {
+/// What a row's traced pixels share, borrowed where the row's preparation lives (the
+/// object list holds `OBJECTS` slots: not worth copying).
+enum RowWork<'a, 'r, S: Scalar> {
     /// The plan's objects and their row tests, and the row's shading when its pixels share
     /// a plane.
-    Planned(
-        heapless::Vec<RowEntry<S>, OBJECTS>,
-        Option<RowShading<'r, S>>,
-    ),
+    Planned(&'a [RowEntry<S>], Option<&'a RowShading<'r, S>>),
     /// Every object, every pixel alone (no plan).
     All,
 }
@@ -152,23 +150,23 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         Ok(())
     }
 
-    /// The primary rays of image row `y` (0 the top), and what its traced pixels share
-    /// (see [`RowWork`]).
-    fn row_work<'r>(
+    /// Calls `f` with the primary rays of image row `y` (0 the top) and what its traced
+    /// pixels share (see [`RowWork`]), prepared here and lent.
+    fn with_row<'r, R>(
         &self,
         shader: &Shader<'r, S>,
         y: u16,
-    ) -> (RowRays<S>, RowWork<'r, S, OBJECTS>) {
+        f: impl FnOnce(RowRays<S>, RowWork<'_, 'r, S>) -> R,
+    ) -> R {
         let camera_y = self.camera.height().saturating_sub(1).saturating_sub(y);
         let rays = self.camera.row_rays(camera_y, 0);
-        let work = match self.row_tests(camera_y, &rays) {
+        match self.row_tests(camera_y, &rays) {
             Some(tests) => {
                 let shading = self.row_shading(shader, &tests, &rays);
-                RowWork::Planned(tests, shading)
+                f(rays, RowWork::Planned(&tests, shading.as_ref()))
             }
-            None => RowWork::All,
-        };
-        (rays, work)
+            None => f(rays, RowWork::All),
+        }
     }
 
     /// Traces the pixels of image row `y` from `first`, `stride` apart, and fills a
@@ -186,23 +184,86 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         D: DrawTarget,
         D::Color: From<Rgb888>,
     {
-        let (rays, work) = self.row_work(shader, y);
-        let width = self.camera.width();
-        let size = self.size();
-        let traced = (0..width).zip(rays).skip(usize::from(first));
-        for (x, ray) in traced.step_by(usize::from(stride.max(1))) {
-            let color = match &work {
-                RowWork::Planned(tests, Some(shading)) => {
-                    bytes(ray.map_or(Vec3::ZERO, |ray| shader.shade_in_row(shading, tests, &ray)))
-                }
-                RowWork::Planned(tests, None) => self.color_in_row(shader, ray, tests),
-                RowWork::All => self.color(shader, ray, Among::All),
-            };
+        self.with_row(shader, y, |_, work| {
+            self.blocks_of_row(shader, target, y, first, stride, block, work)
+        })
+    }
+
+    /// [`row_of_blocks`](Self::row_of_blocks) with the row prepared.
+    #[allow(clippy::too_many_arguments)]
+    fn blocks_of_row<D>(
+        &self,
+        shader: &Shader<'_, S>,
+        target: &mut D,
+        y: u16,
+        first: u16,
+        stride: u16,
+        block: u16,
+        work: RowWork<'_, '_, S>,
+    ) -> Result<(), RenderError<D::Error>>
+    where
+        D: DrawTarget,
+        D::Color: From<Rgb888>,
+    {
+        let camera_y = self.camera.height().saturating_sub(1).saturating_sub(y);
+        let stride = stride.max(1);
+        // Only the traced pixels' rays, the same as the row's.
+        let rays = self.camera.row_rays_every(camera_y, first, stride);
+        let columns = (first..self.camera.width()).step_by(usize::from(stride));
+        let traced = columns.zip(rays);
+        // The row's fast case in a loop of its own, as `shade_row` has it.
+        match work {
+            RowWork::Planned(_, Some(shading)) if shading.plain() => {
+                let colors = traced.map(|(x, ray)| {
+                    let c = ray.map_or(Vec3::ZERO, |ray| shader.shade_in_plain_row(shading, &ray));
+                    (x, bytes(c))
+                });
+                self.emit(target, y, block, colors)
+            }
+            RowWork::Planned(tests, Some(shading)) => {
+                let colors = traced.map(|(x, ray)| {
+                    let c = ray.map_or(Vec3::ZERO, |ray| shader.shade_in_row(shading, tests, &ray));
+                    (x, bytes(c))
+                });
+                self.emit(target, y, block, colors)
+            }
+            RowWork::Planned(tests, None) => {
+                let colors = traced.map(|(x, ray)| (x, self.color_in_row(shader, ray, tests)));
+                self.emit(target, y, block, colors)
+            }
+            RowWork::All => {
+                let colors = traced.map(|(x, ray)| (x, self.color(shader, ray, Among::All)));
+                self.emit(target, y, block, colors)
+            }
+        }
+    }
+
+    /// Writes the traced pixels of image row `y`: each fills its `block`-sided square (cut
+    /// at the image's right and bottom edges), or, for single pixels, one `draw_iter` for
+    /// the row. The colours are computed as the target takes them.
+    fn emit<D>(
+        &self,
+        target: &mut D,
+        y: u16,
+        block: u16,
+        colors: impl Iterator<Item = (u16, Rgb888)>,
+    ) -> Result<(), RenderError<D::Error>>
+    where
+        D: DrawTarget,
+        D::Color: From<Rgb888>,
+    {
+        if block == 1 {
+            let pixels =
+                colors.map(|(x, c)| Pixel(Point::new(i32::from(x), i32::from(y)), c.into()));
+            return target.draw_iter(pixels).map_err(RenderError::Target);
+        }
+        let (width, height) = (self.camera.width(), self.camera.height());
+        let rows = u32::from(block.min(height.saturating_sub(y)));
+        for (x, color) in colors {
             let square = Rectangle::new(
                 Point::new(i32::from(x), i32::from(y)),
-                Size::new(u32::from(block), u32::from(block)),
-            )
-            .intersection(&Rectangle::new(Point::zero(), size));
+                Size::new(u32::from(block.min(width.saturating_sub(x))), rows),
+            );
             target
                 .fill_solid(&square, color.into())
                 .map_err(RenderError::Target)?;
@@ -222,14 +283,13 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         D: DrawTarget,
         D::Color: From<Rgb888>,
     {
-        let (rays, work) = self.row_work(shader, y);
-        match work {
+        self.with_row(shader, y, |rays, work| match work {
             RowWork::Planned(tests, Some(shading)) => {
-                super::shade_row(shader, &shading, &tests, rays, row);
+                super::shade_row(shader, shading, tests, rays, row);
             }
             RowWork::Planned(tests, None) => {
                 for (slot, ray) in row.iter_mut().zip(rays) {
-                    *slot = self.color_in_row(shader, ray, &tests).into();
+                    *slot = self.color_in_row(shader, ray, tests).into();
                 }
             }
             RowWork::All => {
@@ -237,7 +297,7 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
                     *slot = self.color(shader, ray, Among::All).into();
                 }
             }
-        }
+        });
         let line = Rectangle::new(
             Point::new(0, i32::from(y)),
             Size::new(u32::from(self.camera.width()), 1),

@@ -32,6 +32,9 @@ pub(crate) struct Options {
     pub(crate) build: Option<String>,
     /// Render each scene twice, with the render plan and without (`SCENE+noplan`).
     pub(crate) compare_plan: bool,
+    /// Render each scene plainly and in the progressive order, counting the first pass
+    /// (`SCENE+preview`) and the rest (`SCENE+progressive`) apart; the M4F board only.
+    pub(crate) progressive: bool,
     /// The minimal firmware: no optional microray feature, the `basic` scene only.
     pub(crate) minimal: bool,
     /// The optimisation level of the firmware build (`CARGO_PROFILE_RELEASE_OPT_LEVEL`),
@@ -145,6 +148,7 @@ pub fn run(args: &[String]) -> Result<(), String> {
                 options.profile = Some(rest.next().ok_or("--profile takes a LABEL")?.clone())
             }
             "--compare-plan" => options.compare_plan = true,
+            "--progressive" => options.progressive = true,
             "--minimal" => options.minimal = true,
             "--opt-levels" => return opt_levels(),
             "--build" => {
@@ -159,6 +163,14 @@ pub fn run(args: &[String]) -> Result<(), String> {
         .ok_or("--size takes WIDTHxHEIGHT")?;
     let root = root()?;
     let mut measurement = measure(&root, width, height, &options)?;
+    if options.progressive {
+        let table = progressive_table(&measurement.rows, width, height);
+        println!("{table}");
+        if options.only.is_empty() && options.build.is_none() {
+            std::fs::write(root.join("docs/progressive.md"), &table).map_err(|e| e.to_string())?;
+        }
+        return measurement.check();
+    }
     if options.build.is_none()
         && !options.minimal
         && !options.compare_plan
@@ -437,6 +449,10 @@ pub(crate) fn measure(
     let mut profiles = String::new();
     for build in &BUILDS {
         let name = format!("{}-{}", build.machine, build.number);
+        // The progressive frame is kept in RAM: the micro:bit has no room for one.
+        if options.progressive && build.machine == "microbit" {
+            continue;
+        }
         if options
             .build
             .as_ref()
@@ -447,7 +463,13 @@ pub(crate) fn measure(
         let variant = Variant {
             opt_level: options.opt_level.as_deref().unwrap_or(""),
             only: &options.only,
-            plan: if options.compare_plan { "compare" } else { "" },
+            plan: if options.compare_plan {
+                "compare"
+            } else if options.progressive {
+                "progressive"
+            } else {
+                ""
+            },
             full: !options.minimal,
             extensions: !options.minimal && !options.without_extensions,
             // The minimal build is built for size (the firmware's `release-small` profile).
@@ -825,7 +847,10 @@ fn compare(
         let dump =
             std::fs::read(out.join(format!("{name}.rgb"))).map_err(|e| format!("{name}: {e}"))?;
         // The frame without the plan must equal the host's render with it.
-        let scene = name.strip_suffix("+noplan").unwrap_or(&name);
+        let scene = ["+noplan", "+preview", "+progressive"]
+            .iter()
+            .find_map(|suffix| name.strip_suffix(suffix))
+            .unwrap_or(&name);
         let source = if scene == static_scene::NAME {
             Source::Static
         } else if scene == basic_scene::NAME {
@@ -991,6 +1016,50 @@ fn table(rows: &[Row], width: u16, height: u16) -> String {
             r.size.ram,
             r.stack
         );
+    }
+    out
+}
+
+/// The progressive order against the plain one, per scene and number type: the
+/// instructions until the first pass (8x8 blocks) is on the panel, as a share of the plain
+/// frame's, and the whole progressive frame's over the plain one's.
+fn progressive_table(rows: &[Row], width: u16, height: u16) -> String {
+    let mut out = format!(
+        "# The progressive order in QEMU\n\n\
+         Written by `cargo xtask qemu --progressive`: every scene at {width}x{height} on the \
+         MPS2 board (Cortex-M4F), rendered plainly and then progressively \
+         (`Renderer::render_pass`: 8x8 blocks, 4x4, 2x2, every pixel) into a frame in RAM, \
+         the writes to the frame not counted (as the plain frame's row output is not). \
+         First preview: the instructions of the first pass (the whole picture in 8x8 \
+         blocks), as a share of the plain frame's. Overhead: the whole progressive frame's \
+         instructions over the plain frame's. The final progressive frame is compared byte \
+         for byte with the host's plain render (identical).\n\n\
+         | scene | number | plain instructions | first preview | share | progressive | overhead | identical |\n\
+         |---|---|---|---|---|---|---|---|\n"
+    );
+    for plain in rows.iter().filter(|r| !r.scene.contains('+')) {
+        let find = |suffix: &str| {
+            rows.iter()
+                .find(|r| r.scene == format!("{}{suffix}", plain.scene) && r.number == plain.number)
+        };
+        let (Some(preview), Some(rest)) = (find("+preview"), find("+progressive")) else {
+            continue;
+        };
+        let total = preview.insns + rest.insns;
+        let share = preview.insns as f64 / plain.insns.max(1) as f64;
+        let overhead = total as f64 / plain.insns.max(1) as f64 - 1.0;
+        let identical = matches!(rest.identical, Ok(true)) && matches!(plain.identical, Ok(true));
+        out.push_str(&format!(
+            "| {} | {} | {} | {} | 1/{:.0} | {} | {:+.2} % | {} |\n",
+            plain.scene,
+            plain.number_name(),
+            plain.insns,
+            preview.insns,
+            1.0 / share.max(1e-9),
+            total,
+            100.0 * overhead,
+            if identical { "yes" } else { "no" }
+        ));
     }
     out
 }

@@ -7,8 +7,7 @@
 
 use core::ops::ControlFlow;
 use embedded_graphics::pixelcolor::{Rgb565, Rgb888, RgbColor};
-use embedded_graphics::prelude::{DrawTarget, DrawTargetExt, Point, Size};
-use embedded_graphics::primitives::Rectangle;
+use embedded_graphics::prelude::{DrawTarget, DrawTargetExt, Point};
 use embedded_hal::digital::OutputPin;
 use embedded_hal_bus::spi::ExclusiveDevice;
 use fugit::RateExtU32;
@@ -110,12 +109,12 @@ fn main() -> ! {
     let top = i32::from((PANEL - HEIGHT) / 2);
     let mut target = display.translated(Point::new(0, top));
     let mut row = [Rgb565::from(Rgb888::BLACK); PANEL as usize];
-    let area = Rectangle::new(
-        Point::zero(),
-        Size::new(u32::from(PANEL), u32::from(HEIGHT)),
-    );
+    // Progressively: the whole picture in 8x8 blocks after 1/64 of the work, then 4x4, 2x2
+    // and every pixel, each traced once; the panel ends with the image a row-by-row render
+    // (`render_area`) draws. A caller that wants to do something between passes calls
+    // `render_pass(&mut target, &mut row, pass)` for passes 0 to 3 instead.
     let _ = Renderer::new(&scene)
-        .render_area(&mut target, area, &mut row, |_| ControlFlow::Continue(()));
+        .render_progressive(&mut target, &mut row, |_| ControlFlow::Continue(()));
     led.set_low().unwrap();
 
     loop {

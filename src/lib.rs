@@ -83,6 +83,7 @@ pub mod camera;
 pub mod compiled;
 #[cfg(any(feature = "parser", feature = "print"))]
 pub mod decimal;
+pub mod dither;
 pub mod error;
 pub mod light;
 pub mod material;

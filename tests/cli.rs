@@ -196,3 +196,48 @@ fn render_progressive_writes_the_previews_and_the_same_image() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn render_writes_rgb565_truncated_and_dithered() {
+    use embedded_graphics::pixelcolor::{Rgb565, Rgb888, RgbColor};
+    use embedded_graphics::prelude::{OriginDimensions, Point};
+    use microray::dither::{dither_rgb565, truncate_rgb565};
+    let dir = std::env::temp_dir().join(format!("microray-cli-rgb565-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/vases.txt");
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "render",
+            scene.to_str().unwrap(),
+            "-q",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let run = microray(&args);
+        assert!(run.status.success(), "{}", text(&run.stderr));
+        microray::host::read_ppm(&std::fs::read(&out).unwrap()).unwrap()
+    };
+    let plain = render("plain.ppm", &[]);
+    let truncated = render("truncated.ppm", &["--color", "rgb565"]);
+    let dithered = render("dithered.ppm", &["--dither", "rgb565"]);
+    let width = plain.size().width as usize;
+    for (i, c) in plain.rgb().chunks(3).enumerate() {
+        let c = Rgb888::new(c[0], c[1], c[2]);
+        let p = Point::new((i % width) as i32, (i / width) as i32);
+        let expand = |c: Rgb565| {
+            let c = Rgb888::from(c);
+            [c.r(), c.g(), c.b()]
+        };
+        assert_eq!(
+            truncated.rgb()[3 * i..3 * i + 3],
+            expand(truncate_rgb565(c))
+        );
+        assert_eq!(
+            dithered.rgb()[3 * i..3 * i + 3],
+            expand(dither_rgb565(c, p))
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -75,7 +75,26 @@ enum Command {
         /// image) and write each preview pass too, as OUT-8, OUT-4 and OUT-2 beside OUT.
         #[arg(long)]
         progressive: bool,
+        /// The panel's colour depth: `rgb565` writes the picture as a 5-6-5 panel shows it
+        /// with the channels truncated, expanded back to 8 bits per channel.
+        #[arg(long, value_enum, default_value_t = Depth::Rgb888)]
+        color: Depth,
+        /// Dither to a panel's colour depth instead (`rgb565`: an ordered 4x4 dither, as
+        /// `microray::dither::Rgb565Dither` draws it), expanded back to 8 bits per channel.
+        #[arg(long, value_enum)]
+        dither: Option<DitherTo>,
     },
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Depth {
+    Rgb888,
+    Rgb565,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum DitherTo {
+    Rgb565,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -120,6 +139,8 @@ fn main() -> ExitCode {
             quiet,
             no_plan,
             progressive,
+            color,
+            dither,
         } => {
             let options = Options {
                 shading: match shade {
@@ -129,6 +150,11 @@ fn main() -> ExitCode {
                 quiet: *quiet,
                 planned: !no_plan,
                 progressive: *progressive,
+                depth: match (dither, color) {
+                    (Some(DitherTo::Rgb565), _) => Output::Rgb565Dithered,
+                    (None, Depth::Rgb565) => Output::Rgb565,
+                    (None, Depth::Rgb888) => Output::Rgb888,
+                },
             };
             match number {
                 Number::F64 => render::<f64>(scene, output, &options),
@@ -272,6 +298,43 @@ struct Options {
     quiet: bool,
     planned: bool,
     progressive: bool,
+    depth: Output,
+}
+
+/// The colour depth of the written picture.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Output {
+    Rgb888,
+    Rgb565,
+    Rgb565Dithered,
+}
+
+/// The picture as a panel of `depth` shows it, expanded back to 8 bits per channel.
+fn to_depth(image: &mut Framebuffer, depth: Output) {
+    use embedded_graphics::pixelcolor::{Rgb565, Rgb888};
+    use embedded_graphics::prelude::{DrawTarget, OriginDimensions, Pixel, Point};
+    use microray::dither::{dither_rgb565, truncate_rgb565};
+    if depth == Output::Rgb888 {
+        return;
+    }
+    let width = image.size().width as usize;
+    let pixels: Vec<(Point, Rgb888)> = image
+        .rgb()
+        .chunks(3)
+        .enumerate()
+        .map(|(i, c)| {
+            let p = Point::new((i % width) as i32, (i / width) as i32);
+            (p, Rgb888::new(c[0], c[1], c[2]))
+        })
+        .collect();
+    let converted = pixels.into_iter().map(|(p, c)| {
+        let panel: Rgb565 = match depth {
+            Output::Rgb565Dithered => dither_rgb565(c, p),
+            _ => truncate_rgb565(c),
+        };
+        Pixel(p, Rgb888::from(panel))
+    });
+    let _ = image.draw_iter(converted);
 }
 
 fn render<S: Scalar>(path: &Path, output: &Path, options: &Options) -> Result<(), String> {
@@ -336,6 +399,7 @@ fn render<S: Scalar>(path: &Path, output: &Path, options: &Options) -> Result<()
         }
         result.map_err(|e| format!("{}: error: {e}", path.display()))?;
     }
+    to_depth(&mut image, options.depth);
     write_image(&image, format, output)?;
     if !quiet {
         let order = if options.progressive {

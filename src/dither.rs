@@ -1,0 +1,157 @@
+//! Rgb565 output: the tracer's 8-bit channels to a panel's 5-6-5, truncated or with an
+//! ordered (Bayer 4x4) dither that needs no memory at all.
+//!
+//! [`Rgb565Dither`] wraps an `Rgb565` [`DrawTarget`] and is itself an `Rgb888` one: the
+//! renderer draws into it as into any target, and each pixel is dithered by its position as
+//! it passes through (rows, blocks of the progressive order and single pixels alike). The
+//! dither is integer arithmetic only, so host and firmware frames agree byte for byte.
+//!
+//! A channel `v` (0 to 255) becomes `floor(v n / 255 + (m + 1/2) / 16)` for `n` = 31 (red,
+//! blue) or 63 (green) levels, `m` the pixel's entry of the 4x4 Bayer matrix: over every 4x4
+//! tile the 16 thresholds are evenly spread over one level, so the tile's mean is the exact
+//! scaled value (truncation loses half a level on average, and bands gradients). The
+//! largest value stays within its level count without clamping.
+
+use embedded_graphics::pixelcolor::{Rgb565, Rgb888, RgbColor};
+use embedded_graphics::prelude::{Dimensions, DrawTarget, Pixel, Point, PointsIter};
+use embedded_graphics::primitives::Rectangle;
+
+/// The 4x4 Bayer matrix (rows by `y`, columns by `x`).
+const BAYER: [[u16; 4]; 4] = [[0, 8, 2, 10], [12, 4, 14, 6], [3, 11, 1, 9], [15, 7, 13, 5]];
+
+/// One channel to `levels` + 1 levels with Bayer threshold `m`.
+#[inline(always)]
+fn channel(v: u8, levels: u32, m: u16) -> u8 {
+    // floor((v levels 32 + (2m + 1) 255) / (255 32)): below levels + 1 for v = 255, m = 15.
+    let scaled = u32::from(v) * levels * 32 + (2 * u32::from(m) + 1) * 255;
+    (scaled / (255 * 32)) as u8
+}
+
+/// The pixel at `p` of colour `c`, dithered to Rgb565.
+#[inline]
+pub fn dither_rgb565(c: Rgb888, p: Point) -> Rgb565 {
+    let row = BAYER.get((p.y & 3) as usize).copied().unwrap_or([0; 4]);
+    let m = row.get((p.x & 3) as usize).copied().unwrap_or(0);
+    Rgb565::new(
+        channel(c.r(), 31, m),
+        channel(c.g(), 63, m),
+        channel(c.b(), 31, m),
+    )
+}
+
+/// `c` truncated to Rgb565 (the top 5, 6 and 5 bits): what a panel shows without a dither.
+#[inline]
+pub fn truncate_rgb565(c: Rgb888) -> Rgb565 {
+    Rgb565::new(c.r() >> 3, c.g() >> 2, c.b() >> 3)
+}
+
+/// An `Rgb888` target in front of an `Rgb565` one, dithering each pixel on its way
+/// ([`dither_rgb565`]). No memory: each pixel is converted as the inner target takes it.
+///
+/// ```
+/// use embedded_graphics::{mock_display::MockDisplay, pixelcolor::{Rgb565, Rgb888}, prelude::*};
+/// use microray::{dither::Rgb565Dither, parse::{no_textures, parse_scene}, render::render, Scene};
+///
+/// let text = b"camera c { pixeldim 8 6 worlddim 8 6 viewpoint 4 3 4 }
+///              material grey { ambient 1 1 1 diffuse 3 3 3 }
+///              plane floor { material grey normal 0 1 0 point 0 0 0 }
+///              light sun { location 4 5 -2 emissivity 4 4 4 }";
+/// let scene: Scene<f32, 2, 1, 1, 0, 8> = parse_scene(text, no_textures)?;
+/// let mut panel: MockDisplay<Rgb565> = MockDisplay::new();
+/// render(&scene, &mut Rgb565Dither::new(&mut panel))?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug)]
+pub struct Rgb565Dither<'t, T> {
+    inner: &'t mut T,
+}
+
+impl<'t, T> Rgb565Dither<'t, T> {
+    /// Dithers into `inner` (borrowed for as long as the wrapper lives).
+    pub fn new(inner: &'t mut T) -> Self {
+        Self { inner }
+    }
+}
+
+impl<T: Dimensions> Dimensions for Rgb565Dither<'_, T> {
+    fn bounding_box(&self) -> Rectangle {
+        self.inner.bounding_box()
+    }
+}
+
+impl<T: DrawTarget<Color = Rgb565>> DrawTarget for Rgb565Dither<'_, T> {
+    type Color = Rgb888;
+    type Error = T::Error;
+
+    fn draw_iter<I: IntoIterator<Item = Pixel<Rgb888>>>(
+        &mut self,
+        pixels: I,
+    ) -> Result<(), Self::Error> {
+        self.inner.draw_iter(
+            pixels
+                .into_iter()
+                .map(|Pixel(p, c)| Pixel(p, dither_rgb565(c, p))),
+        )
+    }
+
+    fn fill_contiguous<I: IntoIterator<Item = Rgb888>>(
+        &mut self,
+        area: &Rectangle,
+        colors: I,
+    ) -> Result<(), Self::Error> {
+        let dithered = area.points().zip(colors).map(|(p, c)| dither_rgb565(c, p));
+        self.inner.fill_contiguous(area, dithered)
+    }
+
+    fn fill_solid(&mut self, area: &Rectangle, color: Rgb888) -> Result<(), Self::Error> {
+        let dithered = area.points().map(|p| dither_rgb565(color, p));
+        self.inner.fill_contiguous(area, dithered)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_tile_keeps_the_mean_and_stays_in_range() {
+        for v in 0..=255u8 {
+            for (levels, expanded) in [(31u32, 255.0 / 31.0), (63, 255.0 / 63.0)] {
+                let mut sum = 0.0;
+                for m in 0..16 {
+                    let q = channel(v, levels, m);
+                    assert!(u32::from(q) <= levels, "{v} {levels} {m}");
+                    sum += f64::from(q) * expanded;
+                }
+                // The tile's mean of the expanded levels is v within rounding of the
+                // thresholds (at most half of a sixteenth of a level).
+                let mean = sum / 16.0;
+                assert!(
+                    (mean - f64::from(v)).abs() <= expanded / 32.0 + 1e-9,
+                    "{v}: {mean}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn flat_colours_on_a_level_are_not_dithered() {
+        // A value exactly on a level stays there at every threshold.
+        for level in 0..=31u8 {
+            let v = (u32::from(level) * 255 / 31) as u8;
+            if u32::from(v) * 31 % 255 == 0 {
+                for m in 0..16 {
+                    assert_eq!(channel(v, 31, m), level);
+                }
+            }
+        }
+        assert_eq!(
+            dither_rgb565(Rgb888::WHITE, Point::new(3, 2)),
+            Rgb565::WHITE
+        );
+        assert_eq!(
+            dither_rgb565(Rgb888::BLACK, Point::new(1, 0)),
+            Rgb565::BLACK
+        );
+    }
+}

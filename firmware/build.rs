@@ -38,6 +38,9 @@ fn main() {
     // `progressive`: each scene is rendered plainly, then in the progressive order into a
     // frame in RAM, counting the first pass and the rest apart (the M4F board only).
     let progressive = env::var("MICRORAY_FW_PLAN").is_ok_and(|v| v == "progressive");
+    // `dither`: each scene is rendered plainly, then into an Rgb565 target through
+    // `microray::dither::Rgb565Dither` (written back as 8-bit channels).
+    let dither = env::var("MICRORAY_FW_PLAN").is_ok_and(|v| v == "dither");
     // Objects a scene holds: the micro:bit's 16 KiB of RAM has room for a few; the MPS2
     // board's 4 MiB for the project's scene of a hundred spheres.
     let objects: usize = if microbit { 6 } else { 128 };
@@ -154,6 +157,7 @@ fn main() {
          pub const LIGHTS: usize = {lights};\npub const TEXTURES: usize = {textures};\n\
          pub const COMPARE_PLAN: bool = {compare_plan};\n\
          pub const PROGRESSIVE: bool = {progressive};\n\
+         pub const DITHER: bool = {dither};\n\
          pub const RUN_STATIC: bool = {run_static};\npub const RUN_BASIC: bool = {run_basic};\n\
          {table}{skipped}"
     );

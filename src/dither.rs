@@ -17,25 +17,45 @@ use embedded_graphics::prelude::{Dimensions, DrawTarget, Pixel, Point, PointsIte
 use embedded_graphics::primitives::Rectangle;
 
 /// The 4x4 Bayer matrix (rows by `y`, columns by `x`).
+#[cfg(test)]
 const BAYER: [[u16; 4]; 4] = [[0, 8, 2, 10], [12, 4, 14, 6], [3, 11, 1, 9], [15, 7, 13, 5]];
 
-/// One channel to `levels` + 1 levels with Bayer threshold `m`.
+/// The thresholds in 255ths of a level: `floor((2m + 1) 255 / 32)` for each Bayer entry
+/// `m` of the 4x4 Bayer matrix (checked against it by the tests).
+const THRESHOLDS: [[u16; 4]; 4] = [
+    [7, 135, 39, 167],
+    [199, 71, 231, 103],
+    [55, 183, 23, 151],
+    [247, 119, 215, 87],
+];
+
+/// `floor((v levels 32 + (2m + 1) 255) / (255 32))` for a Bayer entry `m` whose threshold is
+/// `t`: `a = v levels + t` is the numerator over 32, floored (`v levels 32` is a multiple of
+/// 32), and `a / 255` is `(a + 1 + (a >> 8)) >> 8` for `a < 65535` (here `a < 16320`): one
+/// multiply, no division (the Cortex-M0 has none).
 #[inline(always)]
-fn channel(v: u8, levels: u32, m: u16) -> u8 {
-    // floor((v levels 32 + (2m + 1) 255) / (255 32)): below levels + 1 for v = 255, m = 15.
-    let scaled = u32::from(v) * levels * 32 + (2 * u32::from(m) + 1) * 255;
-    (scaled / (255 * 32)) as u8
+fn channel(v: u8, levels: u16, t: u16) -> u8 {
+    let a = u32::from(v) * u32::from(levels) + u32::from(t);
+    ((a + 1 + (a >> 8)) >> 8) as u8
 }
 
 /// The pixel at `p` of colour `c`, dithered to Rgb565.
 #[inline]
 pub fn dither_rgb565(c: Rgb888, p: Point) -> Rgb565 {
-    let row = BAYER.get((p.y & 3) as usize).copied().unwrap_or([0; 4]);
-    let m = row.get((p.x & 3) as usize).copied().unwrap_or(0);
+    let row = THRESHOLDS
+        .get((p.y & 3) as usize)
+        .copied()
+        .unwrap_or([0; 4]);
+    quantize(c, row.get((p.x & 3) as usize).copied().unwrap_or(0))
+}
+
+/// `c` to Rgb565 with threshold `t`.
+#[inline(always)]
+fn quantize(c: Rgb888, t: u16) -> Rgb565 {
     Rgb565::new(
-        channel(c.r(), 31, m),
-        channel(c.g(), 63, m),
-        channel(c.b(), 31, m),
+        channel(c.r(), 31, t),
+        channel(c.g(), 63, t),
+        channel(c.b(), 31, t),
     )
 }
 
@@ -99,6 +119,20 @@ impl<T: DrawTarget<Color = Rgb565>> DrawTarget for Rgb565Dither<'_, T> {
         area: &Rectangle,
         colors: I,
     ) -> Result<(), Self::Error> {
+        if area.size.height == 1 {
+            // A row (the renderer's case): one row of thresholds, the column by counting.
+            let row = THRESHOLDS
+                .get((area.top_left.y & 3) as usize)
+                .copied()
+                .unwrap_or([0; 4]);
+            let mut x = (area.top_left.x & 3) as usize;
+            let dithered = colors.into_iter().map(|c| {
+                let t = row.get(x).copied().unwrap_or(0);
+                x = (x + 1) & 3;
+                quantize(c, t)
+            });
+            return self.inner.fill_contiguous(area, dithered);
+        }
         let dithered = area.points().zip(colors).map(|(p, c)| dither_rgb565(c, p));
         self.inner.fill_contiguous(area, dithered)
     }
@@ -113,14 +147,42 @@ impl<T: DrawTarget<Color = Rgb565>> DrawTarget for Rgb565Dither<'_, T> {
 mod tests {
     use super::*;
 
+    /// The threshold of Bayer entry `m`.
+    fn threshold(m: u16) -> u16 {
+        (2 * m + 1) * 255 / 32
+    }
+
+    #[test]
+    fn the_thresholds_are_the_bayer_matrix() {
+        for (row, bayer) in THRESHOLDS.iter().zip(BAYER) {
+            for (&t, m) in row.iter().zip(bayer) {
+                assert_eq!(t, threshold(m));
+            }
+        }
+    }
+
+    #[test]
+    fn the_shift_form_is_the_division() {
+        for v in 0..=255u8 {
+            for levels in [31u16, 63] {
+                for m in 0..16u16 {
+                    let exact = (u32::from(v) * u32::from(levels) * 32
+                        + (2 * u32::from(m) + 1) * 255)
+                        / (255 * 32);
+                    assert_eq!(u32::from(channel(v, levels, threshold(m))), exact);
+                }
+            }
+        }
+    }
+
     #[test]
     fn every_tile_keeps_the_mean_and_stays_in_range() {
         for v in 0..=255u8 {
-            for (levels, expanded) in [(31u32, 255.0 / 31.0), (63, 255.0 / 63.0)] {
+            for (levels, expanded) in [(31u16, 255.0 / 31.0), (63, 255.0 / 63.0)] {
                 let mut sum = 0.0;
                 for m in 0..16 {
-                    let q = channel(v, levels, m);
-                    assert!(u32::from(q) <= levels, "{v} {levels} {m}");
+                    let q = channel(v, levels, threshold(m));
+                    assert!(u16::from(q) <= levels, "{v} {levels} {m}");
                     sum += f64::from(q) * expanded;
                 }
                 // The tile's mean of the expanded levels is v within rounding of the
@@ -141,7 +203,7 @@ mod tests {
             let v = (u32::from(level) * 255 / 31) as u8;
             if u32::from(v) * 31 % 255 == 0 {
                 for m in 0..16 {
-                    assert_eq!(channel(v, 31, m), level);
+                    assert_eq!(channel(v, 31, threshold(m)), level);
                 }
             }
         }

@@ -19,7 +19,7 @@ use core::ops::ControlFlow;
 use core::sync::atomic::{AtomicUsize, Ordering};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, syscall};
-use embedded_graphics::pixelcolor::{PixelColor, Rgb888, RgbColor};
+use embedded_graphics::pixelcolor::{PixelColor, Rgb565, Rgb888, RgbColor};
 use embedded_graphics::prelude::Point;
 use embedded_graphics::prelude::{DrawTarget, OriginDimensions, Pixel, PointsIter, Size};
 use embedded_graphics::primitives::Rectangle;
@@ -52,8 +52,8 @@ use scenes::RUN_STATIC;
 #[cfg(feature = "full")]
 use scenes::SCENES;
 use scenes::{
-    COMPARE_PLAN, HEIGHT, LIGHTS, MATERIALS, OBJECTS, PROGRESSIVE, RUN_BASIC, SKIPPED, TEXTURES,
-    WIDTH,
+    COMPARE_PLAN, DITHER, HEIGHT, LIGHTS, MATERIALS, OBJECTS, PROGRESSIVE, RUN_BASIC, SKIPPED,
+    TEXTURES, WIDTH,
 };
 
 /// Capacities that hold every embedded scene and no more (build.rs counts them, and leaves
@@ -198,7 +198,105 @@ fn render_scene(name: &str, scene: &FirmwareScene) -> Result<(), &'static str> {
         stack::paint();
         render_progressive(name, scene)?;
     }
+    if DITHER {
+        report_frame(name, "", Ok(()));
+        stack::paint();
+        render_dithered(name, scene)?;
+    }
     Ok(())
+}
+
+/// A draw target that writes each row of an Rgb565 panel, expanded back to RGB bytes, to
+/// a semihosting file. The colours are pulled (and so dithered) while counting; only the
+/// expansion and the writes are not counted.
+struct Rgb565File {
+    out: RowFile,
+}
+
+impl OriginDimensions for Rgb565File {
+    fn size(&self) -> Size {
+        Size::new(u32::from(WIDTH), u32::from(HEIGHT))
+    }
+}
+
+impl DrawTarget for Rgb565File {
+    type Color = Rgb565;
+    type Error = ();
+
+    fn draw_iter<I: IntoIterator<Item = Pixel<Rgb565>>>(&mut self, _: I) -> Result<(), ()> {
+        Err(())
+    }
+
+    fn fill_contiguous<I: IntoIterator<Item = Rgb565>>(
+        &mut self,
+        area: &Rectangle,
+        colors: I,
+    ) -> Result<(), ()> {
+        let mut pulled = [Rgb565::BLACK; CHUNK];
+        let (mut n, mut total) = (0, 0);
+        let mut result = Ok(());
+        let out = &self.out;
+        let flush = |pulled: &[Rgb565]| {
+            microray_count_stop();
+            let mut bytes = [0u8; 3 * CHUNK];
+            for (i, c) in pulled.iter().enumerate() {
+                let c = Rgb888::from(*c);
+                bytes[3 * i..3 * i + 3].copy_from_slice(&[c.r(), c.g(), c.b()]);
+            }
+            let written = out.write(&bytes[..3 * pulled.len()]);
+            microray_count_start();
+            written
+        };
+        for c in colors {
+            pulled[n] = c;
+            n += 1;
+            if n == CHUNK {
+                result = result.and(flush(&pulled));
+                total += n;
+                n = 0;
+            }
+        }
+        result = result.and(flush(&pulled[..n]));
+        total += n;
+        if total == area.size.width as usize {
+            result
+        } else {
+            Err(())
+        }
+    }
+}
+
+/// Renders a scene through `Rgb565Dither` into `<name>+dither.rgb`.
+#[inline(never)]
+fn render_dithered(name: &str, scene: &FirmwareScene) -> Result<(), &'static str> {
+    let suffix = "+dither";
+    let mut file = [0u8; 56];
+    let len = name.len().min(40);
+    file[..len].copy_from_slice(&name.as_bytes()[..len]);
+    file[len..len + suffix.len()].copy_from_slice(suffix.as_bytes());
+    let handle = open(&file[..len + suffix.len()]);
+    if handle == usize::MAX {
+        return Err("cannot open the output file");
+    }
+    let mut panel = Rgb565File {
+        out: RowFile { handle },
+    };
+    let mut row = [Rgb888::BLACK; WIDTH as usize];
+    let all = Rectangle::new(
+        Point::zero(),
+        Size::new(u32::from(WIDTH), u32::from(HEIGHT)),
+    );
+    microray_count_start();
+    let result = Renderer::new(scene).render_area(
+        &mut microray::dither::Rgb565Dither::new(&mut panel),
+        all,
+        &mut row,
+        |_| ControlFlow::Continue(()),
+    );
+    microray_count_stop();
+    microray_count_frame();
+    unsafe { syscall!(CLOSE, handle) };
+    result.map(|_| ()).map_err(|_| "render failed")
 }
 
 /// A frame in RAM for the progressive order's blocks (a panel takes them directly); its
@@ -349,6 +447,8 @@ fn report(name: &str, result: Result<(), &str>) {
         "+noplan"
     } else if PROGRESSIVE {
         "+progressive"
+    } else if DITHER {
+        "+dither"
     } else {
         ""
     };

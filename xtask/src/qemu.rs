@@ -35,6 +35,9 @@ pub(crate) struct Options {
     /// Render each scene plainly and in the progressive order, counting the first pass
     /// (`SCENE+preview`) and the rest (`SCENE+progressive`) apart; the M4F board only.
     pub(crate) progressive: bool,
+    /// Render each scene plainly and through `microray::dither::Rgb565Dither` into an
+    /// Rgb565 target (`SCENE+dither`), to count what the dither costs.
+    pub(crate) dither: bool,
     /// The minimal firmware: no optional microray feature, the `basic` scene only.
     pub(crate) minimal: bool,
     /// The optimisation level of the firmware build (`CARGO_PROFILE_RELEASE_OPT_LEVEL`),
@@ -149,6 +152,7 @@ pub fn run(args: &[String]) -> Result<(), String> {
             }
             "--compare-plan" => options.compare_plan = true,
             "--progressive" => options.progressive = true,
+            "--dither" => options.dither = true,
             "--minimal" => options.minimal = true,
             "--opt-levels" => return opt_levels(),
             "--build" => {
@@ -163,6 +167,14 @@ pub fn run(args: &[String]) -> Result<(), String> {
         .ok_or("--size takes WIDTHxHEIGHT")?;
     let root = root()?;
     let mut measurement = measure(&root, width, height, &options)?;
+    if options.dither {
+        let table = dither_table(&measurement.rows, width, height);
+        println!("{table}");
+        if options.only.is_empty() && options.build.is_none() {
+            std::fs::write(root.join("docs/dither.md"), &table).map_err(|e| e.to_string())?;
+        }
+        return measurement.check();
+    }
     if options.progressive {
         let table = progressive_table(&measurement.rows, width, height);
         println!("{table}");
@@ -467,6 +479,8 @@ pub(crate) fn measure(
                 "compare"
             } else if options.progressive {
                 "progressive"
+            } else if options.dither {
+                "dither"
             } else {
                 ""
             },
@@ -847,7 +861,7 @@ fn compare(
         let dump =
             std::fs::read(out.join(format!("{name}.rgb"))).map_err(|e| format!("{name}: {e}"))?;
         // The frame without the plan must equal the host's render with it.
-        let scene = ["+noplan", "+preview", "+progressive"]
+        let scene = ["+noplan", "+preview", "+progressive", "+dither"]
             .iter()
             .find_map(|suffix| name.strip_suffix(suffix))
             .unwrap_or(&name);
@@ -865,6 +879,12 @@ fn compare(
         let host = match build.number {
             "f32" => host_render::<f32>(&source, width, height),
             _ => host_render::<I16F16>(&source, width, height),
+        };
+        // The dithered frame is the host's frame through the same dither, expanded back.
+        let host = if name.ends_with("+dither") {
+            host.map(|h| dithered(&h, width))
+        } else {
+            host
         };
         let identical = host.map(|h| h == dump);
         rows.push(Row {
@@ -1058,6 +1078,62 @@ fn progressive_table(rows: &[Row], width: u16, height: u16) -> String {
             1.0 / share.max(1e-9),
             total,
             100.0 * overhead,
+            if identical { "yes" } else { "no" }
+        ));
+    }
+    out
+}
+
+/// RGB bytes as an Rgb565 panel shows them through `microray::dither`, expanded back.
+fn dithered(rgb: &[u8], width: u16) -> Vec<u8> {
+    use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
+    use embedded_graphics::prelude::Point;
+    let width = usize::from(width).max(1);
+    let mut out = Vec::with_capacity(rgb.len());
+    for (i, c) in rgb.chunks(3).enumerate() {
+        let p = Point::new((i % width) as i32, (i / width) as i32);
+        let d = Rgb888::from(microray::dither::dither_rgb565(
+            Rgb888::new(c[0], c[1], c[2]),
+            p,
+        ));
+        out.extend_from_slice(&[d.r(), d.g(), d.b()]);
+    }
+    out
+}
+
+/// What the Rgb565 dither costs, per scene, machine and number type: instructions a pixel
+/// of the plain frame and of the dithered one.
+fn dither_table(rows: &[Row], width: u16, height: u16) -> String {
+    let pixels = f64::from(width) * f64::from(height);
+    let mut out = format!(
+        "# The Rgb565 dither in QEMU\n\n\
+         Written by `cargo xtask qemu --dither`: every scene at {width}x{height}, rendered \
+         plainly (Rgb888 rows out) and through `microray::dither::Rgb565Dither` into an \
+         Rgb565 target; the dithered frame's colours are pulled (and dithered) while \
+         counting, its expansion and writes are not. Cost: the difference in instructions \
+         a pixel. The dithered frame is compared byte for byte with the host's frame through \
+         the same dither (identical).\n\n\
+         | scene | machine | number | plain instr/px | dithered instr/px | cost | identical |\n\
+         |---|---|---|---|---|---|---|\n"
+    );
+    for plain in rows.iter().filter(|r| !r.scene.contains('+')) {
+        let Some(dither) = rows.iter().find(|r| {
+            r.scene == format!("{}+dither", plain.scene)
+                && r.number == plain.number
+                && r.machine == plain.machine
+        }) else {
+            continue;
+        };
+        let (a, b) = (plain.insns as f64 / pixels, dither.insns as f64 / pixels);
+        let identical = matches!(dither.identical, Ok(true));
+        out.push_str(&format!(
+            "| {} | {} | {} | {:.0} | {:.0} | {:+.1} | {} |\n",
+            plain.scene,
+            plain.machine,
+            plain.number_name(),
+            a,
+            b,
+            b - a,
             if identical { "yes" } else { "no" }
         ));
     }

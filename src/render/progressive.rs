@@ -143,7 +143,9 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
                 } else {
                     (block, coarser)
                 };
-                self.row_of_blocks(&shader, target, y, first, stride, block)?;
+                self.with_row(&shader, y, |_, work| {
+                    self.row_of_blocks(&shader, target, y, first, stride, block, work)
+                })?;
             }
             y = y.saturating_add(block);
         }
@@ -169,29 +171,10 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         }
     }
 
-    /// Traces the pixels of image row `y` from `first`, `stride` apart, and fills a
-    /// `block`-sided square from each.
-    fn row_of_blocks<D>(
-        &self,
-        shader: &Shader<'_, S>,
-        target: &mut D,
-        y: u16,
-        first: u16,
-        stride: u16,
-        block: u16,
-    ) -> Result<(), RenderError<D::Error>>
-    where
-        D: DrawTarget,
-        D::Color: From<Rgb888>,
-    {
-        self.with_row(shader, y, |_, work| {
-            self.blocks_of_row(shader, target, y, first, stride, block, work)
-        })
-    }
-
-    /// [`row_of_blocks`](Self::row_of_blocks) with the row prepared.
+    /// Traces the pixels of image row `y` from `first`, `stride` apart (the row prepared
+    /// as `work`), and fills a `block`-sided square from each.
     #[allow(clippy::too_many_arguments)]
-    fn blocks_of_row<D>(
+    fn row_of_blocks<D>(
         &self,
         shader: &Shader<'_, S>,
         target: &mut D,

@@ -24,6 +24,9 @@ pub struct RowRays<S> {
     dy: S,
     dz: S,
     x: Positions<S>,
+    /// Added to every position along the row (anti-aliasing's sub-pixel samples).
+    #[cfg(feature = "antialias")]
+    shift_x: S,
     left: u16,
 }
 
@@ -51,6 +54,8 @@ impl<S: Scalar> Iterator for RowRays<S> {
         }
         self.left -= 1;
         let x = self.x.next_position();
+        #[cfg(feature = "antialias")]
+        let x = x + self.shift_x;
         let dir = Vec3::new(x - self.eye.x, self.dy, self.dz);
         if S::COURSE_ORDER {
             Some(
@@ -333,8 +338,31 @@ impl<S: Scalar> Camera<S> {
             dy: on_screen_y - self.viewpoint.y,
             dz: S::ZERO - self.viewpoint.z,
             x: Positions::new(world_x, self.width.saturating_sub(1), first, stride),
+            #[cfg(feature = "antialias")]
+            shift_x: S::ZERO,
             left: self.width.saturating_sub(first).div_ceil(stride),
         }
+    }
+
+    /// The rays of [`row_rays`](Self::row_rays) with every point on the image plane moved
+    /// by `shift` (world units, `x` and `y`): one sub-pixel sample of each pixel of the row
+    /// (see [`crate::render::Samples`]). A zero shift gives the row's rays bit for bit.
+    #[cfg(feature = "antialias")]
+    pub fn shifted_row_rays(&self, y: u16, first: u16, shift: [S; 2]) -> RowRays<S> {
+        let mut rays = self.row_rays(y, first);
+        rays.dy = rays.dy + shift[1];
+        rays.shift_x = shift[0];
+        rays
+    }
+
+    /// The pixel pitch on the image plane, `worlddim / (pixeldim - 1)` along `x` and `y`.
+    #[cfg(feature = "antialias")]
+    pub fn pitch(&self) -> [S; 2] {
+        let [world_x, world_y] = self.world;
+        [
+            world_x.mul_ratio(1, self.width.saturating_sub(1)),
+            world_y.mul_ratio(1, self.height.saturating_sub(1)),
+        ]
     }
 
     /// Writes the camera block.

@@ -4,7 +4,7 @@
 use crate::error::TextureError;
 use core::convert::Infallible;
 use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
-use embedded_graphics::prelude::{DrawTarget, OriginDimensions, Pixel, Size};
+use embedded_graphics::prelude::{DrawTarget, OriginDimensions, Pixel, Point, Size};
 use std::path::{Path, PathBuf};
 
 /// A texture resolver that reads files relative to `scene_dir`, the scene file's folder.
@@ -191,4 +191,20 @@ pub fn object_ids<S: crate::Scalar, const OBJECTS: usize>(
     (0..height)
         .flat_map(|row| (0..width).map(move |x| renderer.object_at(x, row)))
         .collect()
+}
+
+/// The whole image anti-aliased by `aa` (see [`crate::render::Antialias`]).
+pub fn antialiased<S: crate::Scalar, const OBJECTS: usize>(
+    renderer: &crate::render::Renderer<'_, S, OBJECTS>,
+    aa: crate::render::Antialias,
+) -> Result<Framebuffer, crate::render::RenderError<Infallible>> {
+    let size = renderer.size();
+    let mut image = Framebuffer::new(size);
+    let width = u16::try_from(size.width).unwrap_or(u16::MAX);
+    let mut buffer = vec![crate::render::AaPixel::NEW; crate::render::Antialias::buffer_len(width)];
+    let all = embedded_graphics::primitives::Rectangle::new(Point::zero(), size);
+    renderer.render_antialiased(&mut image, all, aa, &mut buffer, |_| {
+        core::ops::ControlFlow::Continue(())
+    })?;
+    Ok(image)
 }

@@ -33,6 +33,10 @@ use embedded_graphics::pixelcolor::Rgb888;
 use embedded_graphics::prelude::{DrawTarget, Point, Size};
 use embedded_graphics::primitives::Rectangle;
 
+#[cfg(feature = "antialias")]
+mod antialias;
+#[cfg(feature = "antialias")]
+pub use antialias::{AaPixel, Antialias, MAX_SAMPLES, Pattern, Samples};
 mod progressive;
 pub use progressive::{BLOCKS, PassDone};
 

@@ -241,3 +241,69 @@ fn render_writes_rgb565_truncated_and_dithered() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn render_antialiased_matches_the_library_and_rejects_bad_counts() {
+    use microray::host::{HostRenderer, HostScene, antialiased, texture_files};
+    use microray::render::{Antialias, Pattern, Renderer, Samples};
+    let dir = std::env::temp_dir().join(format!("microray-cli-aa-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/vases.txt");
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec!["render", scene_path.to_str().unwrap(), "-q", "-o"];
+        args.push(out.to_str().unwrap());
+        args.extend_from_slice(extra);
+        microray(&args)
+    };
+    let read = |name: &str| std::fs::read(dir.join(name)).unwrap();
+    let text_of_scene = std::fs::read(&scene_path).unwrap();
+    let scene: HostScene<'_, f32> =
+        microray::parse::parse_scene(&text_of_scene, texture_files(scene_path.parent().unwrap()))
+            .unwrap();
+    let renderer: HostRenderer<'_, f32> = Renderer::new(&scene);
+    for (name, extra, aa) in [
+        ("one.ppm", vec!["--aa", "1"], Antialias::Grid(Samples::ONE)),
+        (
+            "nine.ppm",
+            vec!["--aa", "9", "--aa-pattern", "regular"],
+            Antialias::Grid(Samples::new(9, Pattern::Regular).unwrap()),
+        ),
+        (
+            "adaptive.ppm",
+            vec!["--aa", "adaptive:4", "--aa-threshold", "20"],
+            Antialias::Adaptive {
+                samples: Samples::rotated(4).unwrap(),
+                threshold: 20,
+            },
+        ),
+    ] {
+        let mut args = extra.clone();
+        args.extend(["--number", "f32"]);
+        let run = render(name, &args);
+        assert!(run.status.success(), "{}", text(&run.stderr));
+        let expected = antialiased(&renderer, aa).unwrap().to_ppm();
+        assert!(read(name) == expected, "{name}: not the library's image");
+    }
+    let plain = render("plain.ppm", &["--number", "f32"]);
+    assert!(plain.status.success());
+    assert_eq!(read("plain.ppm"), read("one.ppm"));
+    assert_ne!(read("plain.ppm"), read("nine.ppm"));
+    for bad in ["3", "0", "289", "adaptive:5", "many"] {
+        let run = render("bad.ppm", &["--aa", bad]);
+        assert_eq!(run.status.code(), Some(2), "--aa {bad}");
+        assert!(
+            text(&run.stderr).contains("expected a square sample count from 1 to 256"),
+            "{}",
+            text(&run.stderr)
+        );
+    }
+    let both = render("both.ppm", &["--aa", "4", "--progressive"]);
+    assert_eq!(both.status.code(), Some(1));
+    assert!(
+        text(&both.stderr).contains("cannot be combined"),
+        "{}",
+        text(&both.stderr)
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

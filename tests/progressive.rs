@@ -72,17 +72,7 @@ impl DrawTarget for Counting {
 }
 
 fn scenes() -> Vec<PathBuf> {
-    let mut all = common::project_scenes();
-    all.extend(common::scene_files(
-        &Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/stress"),
-    ));
-    if let Some(dir) = common::conformance_dir() {
-        all.extend(common::scene_files(&dir));
-    }
-    if let Some(dir) = common::course_extensions_dir() {
-        all.extend(common::scene_files(&dir));
-    }
-    all
+    common::all_scenes_with("stress")
 }
 
 fn check<S: Scalar>(path: &Path) {

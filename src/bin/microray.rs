@@ -6,7 +6,7 @@ use microray::Scalar;
 use microray::host::{Framebuffer, HostRenderer, HostScene, texture_files};
 use microray::parse::parse_scene;
 use microray::print::print_scene;
-use microray::render::{Renderer, Shading};
+use microray::render::{Antialias, Pattern, Renderer, Samples, Shading};
 use microray::scalar::I16F16;
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
@@ -83,7 +83,49 @@ enum Command {
         /// `microray::dither::Rgb565Dither` draws it), expanded back to 8 bits per channel.
         #[arg(long, value_enum)]
         dither: Option<DitherTo>,
+        /// Anti-aliasing at fixed sample positions: N samples a pixel (a square: 1, 4, 9,
+        /// 16, ... 256; 1 is the plain render), or `adaptive` (16 samples on the pixels that
+        /// differ from a neighbour, the plain ray elsewhere; `adaptive:N` for N).
+        #[arg(long, value_parser = parse_aa, default_value = "1")]
+        aa: AaMode,
+        /// Adaptive anti-aliasing: neighbours whose channels differ by more than this many
+        /// levels (or that see different objects) are supersampled.
+        #[arg(long, default_value_t = 8)]
+        aa_threshold: u8,
+        /// Where a pixel's samples lie: a rotated grid (every sample its own row and column)
+        /// or a regular one.
+        #[arg(long, value_enum, default_value_t = AaPattern::Rotated)]
+        aa_pattern: AaPattern,
     },
+}
+
+/// `--aa` as given: a sample count, adaptive or not.
+#[derive(Clone, Copy)]
+struct AaMode {
+    adaptive: bool,
+    count: u16,
+}
+
+fn parse_aa(text: &str) -> Result<AaMode, String> {
+    let (adaptive, count) = match text.strip_prefix("adaptive") {
+        Some("") => (true, "16"),
+        Some(rest) => (true, rest.strip_prefix(':').unwrap_or(rest)),
+        None => (false, text),
+    };
+    let count = count
+        .parse::<u16>()
+        .ok()
+        .filter(|&n| microray::render::Samples::rotated(n).is_some())
+        .ok_or_else(|| {
+            format!("`{text}`: expected a square sample count from 1 to 256 (1, 4, 9, 16, ...), `adaptive` or `adaptive:N`")
+        })?;
+    Ok(AaMode { adaptive, count })
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum AaPattern {
+    Rotated,
+    Regular,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -141,7 +183,16 @@ fn main() -> ExitCode {
             progressive,
             color,
             dither,
+            aa,
+            aa_threshold,
+            aa_pattern,
         } => {
+            let pattern = match aa_pattern {
+                AaPattern::Rotated => Pattern::Rotated,
+                AaPattern::Regular => Pattern::Regular,
+            };
+            // parse_aa let only squares through.
+            let samples = Samples::new(aa.count, pattern).unwrap_or(Samples::ONE);
             let options = Options {
                 shading: match shade {
                     ShadeMode::Color => Shading::Color,
@@ -154,6 +205,14 @@ fn main() -> ExitCode {
                     (Some(DitherTo::Rgb565), _) => Output::Rgb565Dithered,
                     (None, Depth::Rgb565) => Output::Rgb565,
                     (None, Depth::Rgb888) => Output::Rgb888,
+                },
+                aa: match (aa.adaptive, aa.count) {
+                    (false, 1) => None,
+                    (false, _) => Some(Antialias::Grid(samples)),
+                    (true, _) => Some(Antialias::Adaptive {
+                        samples,
+                        threshold: *aa_threshold,
+                    }),
                 },
             };
             match number {
@@ -299,6 +358,7 @@ struct Options {
     planned: bool,
     progressive: bool,
     depth: Output,
+    aa: Option<Antialias>,
 }
 
 /// The colour depth of the written picture.
@@ -362,7 +422,13 @@ fn render<S: Scalar>(path: &Path, output: &Path, options: &Options) -> Result<()
     let mut row = vec![Default::default(); size.width as usize];
     let area = embedded_graphics::primitives::Rectangle::new(Default::default(), size);
     let start = Instant::now();
-    if options.progressive {
+    if let Some(aa) = options.aa {
+        if options.progressive {
+            return Err("error: --aa and --progressive cannot be combined (the progressive order traces one ray a pixel)".into());
+        }
+        image = microray::host::antialiased(&renderer, aa)
+            .map_err(|e| format!("{}: error: {e}", path.display()))?;
+    } else if options.progressive {
         for (pass, block) in microray::render::BLOCKS.iter().enumerate() {
             renderer
                 .render_pass(&mut image, &mut row, pass)
@@ -402,10 +468,13 @@ fn render<S: Scalar>(path: &Path, output: &Path, options: &Options) -> Result<()
     to_depth(&mut image, options.depth);
     write_image(&image, format, output)?;
     if !quiet {
-        let order = if options.progressive {
-            "progressive, "
-        } else {
-            ""
+        let order = match options.aa {
+            Some(Antialias::Grid(samples)) => format!("{} samples a pixel, ", samples.count()),
+            Some(Antialias::Adaptive { samples, .. }) => {
+                format!("{} samples on edges, ", samples.count())
+            }
+            None if options.progressive => "progressive, ".into(),
+            None => String::new(),
         };
         eprintln!(
             "{}: {}x{} in {:.2} s ({order}{}) -> {}",

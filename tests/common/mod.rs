@@ -58,6 +58,24 @@ pub fn project_scenes() -> Vec<PathBuf> {
     scene_files(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes"))
 }
 
+/// The project's scenes, those in `tests/<folder>`, and the course's (conformance and
+/// later scenes) where they are found.
+pub fn all_scenes_with(folder: &str) -> Vec<PathBuf> {
+    let mut all = project_scenes();
+    all.extend(scene_files(
+        &Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests")
+            .join(folder),
+    ));
+    if let Some(dir) = conformance_dir() {
+        all.extend(scene_files(&dir));
+    }
+    if let Some(dir) = course_extensions_dir() {
+        all.extend(scene_files(&dir));
+    }
+    all
+}
+
 /// Pixels (top row first) whose primary ray meets a rectangle exactly on its edge, or a
 /// textured rectangle exactly on an edge between two texels (in f64, within 1e-9 of the
 /// size): ties in exact arithmetic, which any rounding decides.

@@ -41,6 +41,13 @@ fn main() {
     // `dither`: each scene is rendered plainly, then into an Rgb565 target through
     // `microray::dither::Rgb565Dither` (written back as 8-bit channels).
     let dither = env::var("MICRORAY_FW_PLAN").is_ok_and(|v| v == "dither");
+    // `antialias`: each scene is rendered plainly, then anti-aliased with 4, 9 and 16
+    // samples a pixel and adaptively (needs the firmware's `antialias` feature).
+    let antialias = env::var("MICRORAY_FW_PLAN").is_ok_and(|v| v == "antialias");
+    assert!(
+        !antialias || env::var_os("CARGO_FEATURE_ANTIALIAS").is_some(),
+        "MICRORAY_FW_PLAN=antialias needs the firmware's `antialias` feature"
+    );
     // Objects a scene holds: the micro:bit's 16 KiB of RAM has room for a few; the MPS2
     // board's 4 MiB for the project's scene of a hundred spheres.
     let objects: usize = if microbit { 6 } else { 128 };
@@ -158,6 +165,7 @@ fn main() {
          pub const COMPARE_PLAN: bool = {compare_plan};\n\
          pub const PROGRESSIVE: bool = {progressive};\n\
          pub const DITHER: bool = {dither};\n\
+         pub const ANTIALIAS: bool = {antialias};\n\
          pub const RUN_STATIC: bool = {run_static};\npub const RUN_BASIC: bool = {run_basic};\n\
          {table}{skipped}"
     );

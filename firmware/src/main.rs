@@ -9,6 +9,8 @@
 #![no_main]
 
 // The minimal build loads it compiled by build.rs, and uses only its name.
+#[cfg(feature = "antialias")]
+mod aa_modes;
 #[cfg_attr(not(feature = "full"), allow(dead_code))]
 mod basic_scene;
 #[cfg(feature = "full")]
@@ -52,8 +54,8 @@ use scenes::RUN_STATIC;
 #[cfg(feature = "full")]
 use scenes::SCENES;
 use scenes::{
-    COMPARE_PLAN, DITHER, HEIGHT, LIGHTS, MATERIALS, OBJECTS, PROGRESSIVE, RUN_BASIC, SKIPPED,
-    TEXTURES, WIDTH,
+    ANTIALIAS, COMPARE_PLAN, DITHER, HEIGHT, LIGHTS, MATERIALS, OBJECTS, PROGRESSIVE, RUN_BASIC,
+    SKIPPED, TEXTURES, WIDTH,
 };
 
 /// Capacities that hold every embedded scene and no more (build.rs counts them, and leaves
@@ -203,7 +205,59 @@ fn render_scene(name: &str, scene: &FirmwareScene) -> Result<(), &'static str> {
         stack::paint();
         render_dithered(name, scene)?;
     }
+    #[cfg(feature = "antialias")]
+    if ANTIALIAS {
+        let mut previous = "";
+        for (suffix, aa) in antialiasing::MODES {
+            report_frame(name, previous, Ok(()));
+            stack::paint();
+            antialiasing::render(name, suffix, scene, aa)?;
+            previous = suffix;
+        }
+    }
     Ok(())
+}
+
+/// The anti-aliased frames of `MICRORAY_FW_PLAN=antialias`.
+#[cfg(feature = "antialias")]
+mod antialiasing {
+    use super::*;
+    pub use crate::aa_modes::MODES;
+    use microray::render::{AaPixel, Antialias};
+
+    /// Renders a scene anti-aliased by `aa` into `<name><suffix>.rgb`.
+    #[inline(never)]
+    pub fn render(
+        name: &str,
+        suffix: &str,
+        scene: &FirmwareScene,
+        aa: Antialias,
+    ) -> Result<(), &'static str> {
+        let mut file = [0u8; 56];
+        let len = name.len().min(40);
+        file[..len].copy_from_slice(&name.as_bytes()[..len]);
+        file[len..len + suffix.len()].copy_from_slice(suffix.as_bytes());
+        let handle = open(&file[..len + suffix.len()]);
+        if handle == usize::MAX {
+            return Err("cannot open the output file");
+        }
+        let mut target = RowFile { handle };
+        let mut buffer = [AaPixel::NEW; Antialias::buffer_len(WIDTH)];
+        let all = Rectangle::new(
+            Point::zero(),
+            Size::new(u32::from(WIDTH), u32::from(HEIGHT)),
+        );
+        RENDER_BASE.store(stack::depth(), Ordering::Relaxed);
+        microray_count_start();
+        let result =
+            Renderer::new(scene).render_antialiased(&mut target, all, aa, &mut buffer, |_| {
+                ControlFlow::Continue(())
+            });
+        microray_count_stop();
+        microray_count_frame();
+        unsafe { syscall!(CLOSE, handle) };
+        result.map(|_| ()).map_err(|_| "render failed")
+    }
 }
 
 /// A draw target that writes each row of an Rgb565 panel, expanded back to RGB bytes, to
@@ -449,6 +503,8 @@ fn report(name: &str, result: Result<(), &str>) {
         "+progressive"
     } else if DITHER {
         "+dither"
+    } else if ANTIALIAS {
+        "+adaptive"
     } else {
         ""
     };

@@ -40,6 +40,7 @@
 
 use super::{RenderError, Rendered, Renderer, RowDone, among, bytes};
 use crate::object::Among;
+use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::shade::{Shader, ShadowCache};
 use crate::vec3::Vec3;
@@ -298,7 +299,7 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
                 .saturating_sub(y);
             for k in 0..count {
                 let shift = self.samples.shift(k, self.pitch);
-                self.add_row(camera_y, left, shift, sums);
+                self.add_row(camera_y, left, shift, sums, false);
             }
             let line = Rectangle::new(
                 Point::new(area.top_left.x, i32::from(y)),
@@ -383,30 +384,58 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
     }
 
     /// Adds sample `shift` of each pixel of camera row `camera_y` (0 the bottom) from
-    /// column `first` to `sums`
-    /// (as many as it holds), shaded as [`Renderer::render_area`] shades a row.
-    fn add_row(&self, camera_y: u16, first: u16, shift: [S; 2], sums: &mut [AaPixel]) {
+    /// column `first` to `sums` (as many as it holds), shaded as
+    /// [`Renderer::render_area`] shades a row; with `objects`, records what each sees.
+    fn add_row(
+        &self,
+        camera_y: u16,
+        first: u16,
+        shift: [S; 2],
+        sums: &mut [AaPixel],
+        objects: bool,
+    ) {
         let renderer = self.renderer;
         let shader = self.shader;
         let rays = renderer.camera.shifted_row_rays(camera_y, first, shift);
-        match renderer.row_tests(camera_y, &rays) {
-            Some(tests) => match renderer.row_shading(shader, &tests, &rays) {
-                Some(shading) => {
-                    for (p, ray) in sums.iter_mut().zip(rays) {
-                        let c =
-                            ray.map_or(Vec3::ZERO, |r| shader.shade_in_row(&shading, &tests, &r));
-                        p.add(bytes(c));
+        let Some(tests) = renderer.row_tests(camera_y, &rays) else {
+            for (p, ray) in sums.iter_mut().zip(rays) {
+                p.add(renderer.color(shader, ray, Among::All));
+                if objects {
+                    p.object = seen(ray.and_then(|r| shader.first_object_among(&r, Among::All)));
+                }
+            }
+            return;
+        };
+        let first_object =
+            |ray: Option<Ray<S>>| seen(ray.and_then(|r| shader.first_object_in_row(&r, &tests)));
+        match renderer.row_shading(shader, &tests, &rays) {
+            // The row's fast case in a loop of its own, as `render_area` has it; every ray
+            // meets the row's plane.
+            Some(shading) if shading.plain() => {
+                let plane = seen(shading.plane());
+                for (p, ray) in sums.iter_mut().zip(rays) {
+                    let c = ray.map_or(Vec3::ZERO, |r| shader.shade_in_plain_row(&shading, &r));
+                    p.add(bytes(c));
+                    if objects {
+                        p.object = if ray.is_some() { plane } else { 0 };
                     }
                 }
-                None => {
-                    for (p, ray) in sums.iter_mut().zip(rays) {
-                        p.add(renderer.color_in_row(shader, ray, &tests));
+            }
+            Some(shading) => {
+                for (p, ray) in sums.iter_mut().zip(rays) {
+                    let c = ray.map_or(Vec3::ZERO, |r| shader.shade_in_row(&shading, &tests, &r));
+                    p.add(bytes(c));
+                    if objects {
+                        p.object = first_object(ray);
                     }
                 }
-            },
+            }
             None => {
                 for (p, ray) in sums.iter_mut().zip(rays) {
-                    p.add(renderer.color(shader, ray, Among::All));
+                    p.add(renderer.color_in_row(shader, ray, &tests));
+                    if objects {
+                        p.object = first_object(ray);
+                    }
                 }
             }
         }
@@ -433,25 +462,8 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
         let in_image =
             usize::from(camera.width().saturating_sub(first)).min(slot.len().saturating_sub(skip));
         let shift = [S::ZERO, shift_y];
-        let seen = |index: Option<usize>| index.map_or(0, |i| (i as u16).saturating_add(1));
         if let Some(real) = slot.get_mut(skip..skip + in_image) {
-            self.add_row(camera_y, first, shift, real);
-            let rays = camera.shifted_row_rays(camera_y, first, shift);
-            match self.renderer.row_tests(camera_y, &rays) {
-                Some(tests) => {
-                    for (p, ray) in real.iter_mut().zip(rays) {
-                        let index = ray.and_then(|r| self.shader.first_object_in_row(&r, &tests));
-                        p.object = seen(index);
-                    }
-                }
-                None => {
-                    for (p, ray) in real.iter_mut().zip(rays) {
-                        let index =
-                            ray.and_then(|r| self.shader.first_object_among(&r, Among::All));
-                        p.object = seen(index);
-                    }
-                }
-            }
+            self.add_row(camera_y, first, shift, real, true);
         }
         // The columns beyond the image's sides.
         let beyond = |x: u16, shift_x: S| {
@@ -491,6 +503,13 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
         }
         sum.mean(count)
     }
+}
+
+/// An object index as [`AaPixel`] keeps it: plus one, 0 for none.
+fn seen(index: Option<usize>) -> u16 {
+    index.map_or(0, |i| {
+        u16::try_from(i).unwrap_or(u16::MAX - 1).saturating_add(1)
+    })
 }
 
 /// Draws a row's colours on `target` and reports the row; `Some` when `on_row` stops.

@@ -111,6 +111,18 @@ impl<S: Scalar> RowShading<'_, S> {
     }
 }
 
+impl<S: Scalar> RowShading<'_, S> {
+    /// The object every ray of the row meets first, when no other object of the row is
+    /// tested ray by ray.
+    pub fn plane(&self) -> Option<usize> {
+        if self.tested {
+            None
+        } else {
+            self.levels.first().map(|level| level.index)
+        }
+    }
+}
+
 impl<'s, S: Scalar> Shader<'s, S> {
     /// The shading of a row whose prepared tests (`row`, for rays from `origin`) put a plain
     /// plane at one `t` for every ray (the rays that meet nothing nearer see it), or `None`

@@ -4,7 +4,7 @@ use crate::profile;
 use microray::Scalar;
 use microray::host::{Framebuffer, HostScene, texture_files};
 use microray::parse::parse_scene;
-use microray::render::render;
+use microray::render::{Antialias, render};
 use microray::scalar::I16F16;
 use object::{Object, ObjectSection, ObjectSymbol};
 use std::collections::BTreeMap;
@@ -19,6 +19,9 @@ mod static_scene;
 
 #[path = "../../firmware/src/basic_scene.rs"]
 mod basic_scene;
+#[path = "../../firmware/src/aa_modes.rs"]
+mod aa_modes;
+use aa_modes::MODES as AA_MODES;
 
 /// Options of `cargo xtask qemu`.
 #[derive(Default)]
@@ -38,6 +41,9 @@ pub(crate) struct Options {
     /// Render each scene plainly and through `microray::dither::Rgb565Dither` into an
     /// Rgb565 target (`SCENE+dither`), to count what the dither costs.
     pub(crate) dither: bool,
+    /// Render each scene plainly and anti-aliased with 4, 9 and 16 samples a pixel and
+    /// adaptively (`SCENE+aa4`, `+aa9`, `+aa16`, `+adaptive`); the M4F board only.
+    pub(crate) antialias: bool,
     /// The minimal firmware: no optional microray feature, the `basic` scene only.
     pub(crate) minimal: bool,
     /// The optimisation level of the firmware build (`CARGO_PROFILE_RELEASE_OPT_LEVEL`),
@@ -153,6 +159,7 @@ pub fn run(args: &[String]) -> Result<(), String> {
             "--compare-plan" => options.compare_plan = true,
             "--progressive" => options.progressive = true,
             "--dither" => options.dither = true,
+            "--antialias" => options.antialias = true,
             "--minimal" => options.minimal = true,
             "--opt-levels" => return opt_levels(),
             "--build" => {
@@ -173,6 +180,11 @@ pub fn run(args: &[String]) -> Result<(), String> {
         if options.only.is_empty() && options.build.is_none() {
             std::fs::write(root.join("docs/dither.md"), &table).map_err(|e| e.to_string())?;
         }
+        return measurement.check();
+    }
+    if options.antialias {
+        let table = antialias_table(&measurement.rows, width, height);
+        println!("{table}");
         return measurement.check();
     }
     if options.progressive {
@@ -462,7 +474,8 @@ pub(crate) fn measure(
     for build in &BUILDS {
         let name = format!("{}-{}", build.machine, build.number);
         // The progressive frame is kept in RAM: the micro:bit has no room for one.
-        if options.progressive && build.machine == "microbit" {
+        // The anti-aliased frames measure the M4F board (the M0's counts scale the same).
+        if (options.progressive || options.antialias) && build.machine == "microbit" {
             continue;
         }
         if options
@@ -481,6 +494,8 @@ pub(crate) fn measure(
                 "progressive"
             } else if options.dither {
                 "dither"
+            } else if options.antialias {
+                "antialias"
             } else {
                 ""
             },
@@ -620,6 +635,9 @@ fn build_firmware(
     let mut features = format!("{},{}", build.feature, build.number);
     if variant.full && !variant.extensions {
         features.push_str(",full");
+    }
+    if variant.plan == "antialias" {
+        features.push_str(",antialias");
     }
     let (only, plan) = (variant.only, variant.plan);
     let dir = root.join("firmware");
@@ -775,7 +793,13 @@ enum Source<'a> {
 }
 
 /// The host's render of a scene at the firmware's size, in `S`.
-fn host_render<S: Scalar>(source: &Source<'_>, width: u16, height: u16) -> Result<Vec<u8>, String> {
+/// The host's frame of a scene at `width` x `height` in `S`, anti-aliased by `aa`.
+fn host_render<S: Scalar>(
+    source: &Source<'_>,
+    width: u16,
+    height: u16,
+    aa: Option<Antialias>,
+) -> Result<Vec<u8>, String> {
     let mut scene: HostScene<'static, S> = match source {
         Source::File(path) => {
             let text = std::fs::read(path).map_err(|e| e.to_string())?;
@@ -806,6 +830,11 @@ fn host_render<S: Scalar>(source: &Source<'_>, width: u16, height: u16) -> Resul
         u32::from(width),
         u32::from(height),
     ));
+    if let Some(aa) = aa {
+        let renderer: microray::host::HostRenderer<'_, S> = microray::render::Renderer::new(&scene);
+        let image = microray::host::antialiased(&renderer, aa).map_err(|e| e.to_string())?;
+        return Ok(image.rgb().to_vec());
+    }
     render(&scene, &mut image).map_err(|e| e.to_string())?;
     Ok(image.rgb().to_vec())
 }
@@ -861,8 +890,13 @@ fn compare(
         let dump =
             std::fs::read(out.join(format!("{name}.rgb"))).map_err(|e| format!("{name}: {e}"))?;
         // The frame without the plan must equal the host's render with it.
+        let aa = AA_MODES
+            .iter()
+            .find(|(suffix, _)| name.ends_with(suffix))
+            .map(|&(_, aa)| aa);
         let scene = ["+noplan", "+preview", "+progressive", "+dither"]
             .iter()
+            .chain(AA_MODES.iter().map(|(suffix, _)| suffix))
             .find_map(|suffix| name.strip_suffix(suffix))
             .unwrap_or(&name);
         let source = if scene == static_scene::NAME {
@@ -877,8 +911,8 @@ fn compare(
             )
         };
         let host = match build.number {
-            "f32" => host_render::<f32>(&source, width, height),
-            _ => host_render::<I16F16>(&source, width, height),
+            "f32" => host_render::<f32>(&source, width, height, aa),
+            _ => host_render::<I16F16>(&source, width, height, aa),
         };
         // The dithered frame is the host's frame through the same dither, expanded back.
         let host = if name.ends_with("+dither") {
@@ -1078,6 +1112,54 @@ fn progressive_table(rows: &[Row], width: u16, height: u16) -> String {
             1.0 / share.max(1e-9),
             total,
             100.0 * overhead,
+            if identical { "yes" } else { "no" }
+        ));
+    }
+    out
+}
+
+/// What anti-aliasing costs, per scene and number type: each mode's instructions against
+/// the plain frame's.
+pub(crate) fn antialias_table(rows: &[Row], width: u16, height: u16) -> String {
+    let mut out = format!(
+        "Instructions a pixel on the MPS2 board (Cortex-M4F) at {width}x{height} \
+         (`cargo xtask qemu --antialias`), plain (`--aa 1`) and anti-aliased, and each as a \
+         multiple of the plain frame's; every frame byte-identical to the host's.\n\n\
+         | scene | number | plain | 4 | 9 | 16 | adaptive | identical |\n\
+         |---|---|---|---|---|---|---|---|\n"
+    );
+    let pixels = f64::from(width) * f64::from(height);
+    for plain in rows.iter().filter(|r| !r.scene.contains('+')) {
+        let modes: Vec<&Row> = AA_MODES
+            .iter()
+            .filter_map(|(suffix, _)| {
+                rows.iter().find(|r| {
+                    r.scene == format!("{}{suffix}", plain.scene) && r.number == plain.number
+                })
+            })
+            .collect();
+        if modes.len() != AA_MODES.len() {
+            continue;
+        }
+        let base = plain.insns.max(1) as f64;
+        let cells: Vec<String> = modes
+            .iter()
+            .map(|r| {
+                format!(
+                    "{:.0} ({:.2}x)",
+                    r.insns as f64 / pixels,
+                    r.insns as f64 / base
+                )
+            })
+            .collect();
+        let identical = matches!(plain.identical, Ok(true))
+            && modes.iter().all(|r| matches!(r.identical, Ok(true)));
+        out.push_str(&format!(
+            "| {} | {} | {:.0} | {} | {} |\n",
+            plain.scene,
+            plain.number_name(),
+            base / pixels,
+            cells.join(" | "),
             if identical { "yes" } else { "no" }
         ));
     }

@@ -3,14 +3,15 @@
 //! size and at 320x240. The render only: parsing happens outside the measured loop.
 //!
 //! Benchmark ids are `SCENE/NUMBER/SIZE` (`spec0/f32/320x240`, `spec0/f64/native`), and
-//! `SCENE/NUMBER/noplan` for 320x240 without the render plan; `cargo xtask bench` runs them
+//! `SCENE/NUMBER/noplan` for 320x240 without the render plan, `SCENE/aa/MODE` for the
+//! course's scenes anti-aliased (f64, 320x240); `cargo xtask bench` runs them
 //! and collects the medians.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use microray::Scalar;
 use microray::host::{Framebuffer, HostRenderer, HostScene, texture_files};
 use microray::parse::parse_scene;
-use microray::render::{Renderer, render};
+use microray::render::{AaPixel, Antialias, Renderer, Samples, render};
 use microray::scalar::I16F16;
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
@@ -59,6 +60,9 @@ fn bench_type<S: Scalar>(c: &mut Criterion, path: &Path) {
         c.bench_function(&format!("{name}/{}/{size}", S::NAME), |b| {
             b.iter(|| render(scene, &mut image).expect("renders"));
         });
+        if size == "320x240" && S::NAME == "f64" && is_course_scene(path) {
+            bench_antialiasing(c, name, scene, &mut image);
+        }
         if size == "320x240" {
             let unplanned: HostRenderer<'_, S> = Renderer::new(scene).with_plan(false);
             let all =
@@ -72,6 +76,46 @@ fn bench_type<S: Scalar>(c: &mut Criterion, path: &Path) {
                 });
             });
         }
+    }
+}
+
+/// Whether a scene is one of the course's (under `MICRORAY_CONFORMANCE`).
+fn is_course_scene(path: &Path) -> bool {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    std::env::var_os("MICRORAY_CONFORMANCE").is_some_and(|dir| path.starts_with(root.join(dir)))
+}
+
+/// `SCENE/aa/MODE`: the scene anti-aliased with 4, 9 and 16 samples a pixel and adaptively
+/// (16 samples on edges, threshold 8), at 320x240 in f64.
+fn bench_antialiasing<S: Scalar>(
+    c: &mut Criterion,
+    name: &str,
+    scene: &HostScene<'_, S>,
+    image: &mut Framebuffer,
+) {
+    let renderer: HostRenderer<'_, S> = Renderer::new(scene);
+    let all = embedded_graphics::primitives::Rectangle::new(Default::default(), renderer.size());
+    let mut buffer = vec![AaPixel::NEW; Antialias::buffer_len(320)];
+    let samples = |n| Samples::rotated(n).expect("a square");
+    for (mode, aa) in [
+        ("4", Antialias::Grid(samples(4))),
+        ("9", Antialias::Grid(samples(9))),
+        ("16", Antialias::Grid(samples(16))),
+        (
+            "adaptive",
+            Antialias::Adaptive {
+                samples: samples(16),
+                threshold: 8,
+            },
+        ),
+    ] {
+        c.bench_function(&format!("{name}/aa/{mode}"), |b| {
+            b.iter(|| {
+                renderer
+                    .render_antialiased(image, all, aa, &mut buffer, |_| ControlFlow::Continue(()))
+                    .expect("renders")
+            });
+        });
     }
 }
 

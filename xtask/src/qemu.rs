@@ -17,10 +17,10 @@ use std::time::{Duration, Instant};
 #[path = "../../firmware/src/static_scene.rs"]
 mod static_scene;
 
-#[path = "../../firmware/src/basic_scene.rs"]
-mod basic_scene;
 #[path = "../../firmware/src/aa_modes.rs"]
 mod aa_modes;
+#[path = "../../firmware/src/basic_scene.rs"]
+mod basic_scene;
 use aa_modes::MODES as AA_MODES;
 
 /// Options of `cargo xtask qemu`.

@@ -12,6 +12,7 @@
 //! scaled value (truncation loses half a level on average, and bands gradients). The
 //! largest value stays within its level count without clamping.
 
+use embedded_graphics::pixelcolor::raw::RawU16;
 use embedded_graphics::pixelcolor::{Rgb565, Rgb888, RgbColor};
 use embedded_graphics::prelude::{Dimensions, DrawTarget, Pixel, Point, PointsIter};
 use embedded_graphics::primitives::Rectangle;
@@ -22,6 +23,7 @@ const BAYER: [[u16; 4]; 4] = [[0, 8, 2, 10], [12, 4, 14, 6], [3, 11, 1, 9], [15,
 
 /// The thresholds in 255ths of a level: `floor((2m + 1) 255 / 32)` for each Bayer entry
 /// `m` of the 4x4 Bayer matrix (checked against it by the tests).
+#[cfg(test)]
 const THRESHOLDS: [[u16; 4]; 4] = [
     [7, 135, 39, 167],
     [199, 71, 231, 103],
@@ -29,34 +31,41 @@ const THRESHOLDS: [[u16; 4]; 4] = [
     [247, 119, 215, 87],
 ];
 
+/// Each threshold `t` of [`THRESHOLDS`] as the offset `(t + 1) 257` that [`quantize`] adds
+/// (checked against them by the tests).
+const OFFSETS: [[u32; 4]; 4] = [
+    [2056, 34952, 10280, 43176],
+    [51400, 18504, 59624, 26728],
+    [14392, 47288, 6168, 39064],
+    [63736, 30840, 55512, 22616],
+];
+
 /// `floor((v levels 32 + (2m + 1) 255) / (255 32))` for a Bayer entry `m` whose threshold is
 /// `t`: `a = v levels + t` is the numerator over 32, floored (`v levels 32` is a multiple of
-/// 32), and `a / 255` is `(a + 1 + (a >> 8)) >> 8` for `a < 65535` (here `a < 16320`): one
-/// multiply, no division (the Cortex-M0 has none).
-#[inline(always)]
+/// 32). The reference [`quantize`] is tested against.
+#[cfg(test)]
 fn channel(v: u8, levels: u16, t: u16) -> u8 {
-    let a = u32::from(v) * u32::from(levels) + u32::from(t);
-    ((a + 1 + (a >> 8)) >> 8) as u8
+    ((u32::from(v) * u32::from(levels) + u32::from(t)) / 255) as u8
 }
 
 /// The pixel at `p` of colour `c`, dithered to Rgb565.
 #[inline]
 pub fn dither_rgb565(c: Rgb888, p: Point) -> Rgb565 {
-    let row = THRESHOLDS
-        .get((p.y & 3) as usize)
-        .copied()
-        .unwrap_or([0; 4]);
+    let row = OFFSETS.get((p.y & 3) as usize).copied().unwrap_or([0; 4]);
     quantize(c, row.get((p.x & 3) as usize).copied().unwrap_or(0))
 }
 
-/// `c` to Rgb565 with threshold `t`.
+/// `c` to Rgb565 with the offset `k = (t + 1) 257` of threshold `t`: per channel
+/// `floor((v levels + t) / 255)` as `((v levels + t + 1) 257) >> 16`, exact while the
+/// quotient stays below 257 (here below 64): one multiply-add and a shift, no division (the
+/// Cortex-M0 has none).
 #[inline(always)]
-fn quantize(c: Rgb888, t: u16) -> Rgb565 {
-    Rgb565::new(
-        channel(c.r(), 31, t),
-        channel(c.g(), 63, t),
-        channel(c.b(), 31, t),
-    )
+fn quantize(c: Rgb888, k: u32) -> Rgb565 {
+    let r = (u32::from(c.r()) * (31 * 257) + k) >> 16;
+    let g = (u32::from(c.g()) * (63 * 257) + k) >> 16;
+    let b = (u32::from(c.b()) * (31 * 257) + k) >> 16;
+    // Rgb565's storage: red in bits 11-15, green 5-10, blue 0-4.
+    Rgb565::from(RawU16::new(((r << 11) | (g << 5) | b) as u16))
 }
 
 /// `c` truncated to Rgb565 (the top 5, 6 and 5 bits): what a panel shows without a dither.
@@ -84,12 +93,31 @@ pub fn truncate_rgb565(c: Rgb888) -> Rgb565 {
 #[derive(Debug)]
 pub struct Rgb565Dither<'t, T> {
     inner: &'t mut T,
+    dither: bool,
 }
 
 impl<'t, T> Rgb565Dither<'t, T> {
     /// Dithers into `inner` (borrowed for as long as the wrapper lives).
     pub fn new(inner: &'t mut T) -> Self {
-        Self { inner }
+        Self {
+            inner,
+            dither: true,
+        }
+    }
+
+    /// Truncates into `inner` instead ([`truncate_rgb565`]) until
+    /// [`set_dither`](Self::set_dither) turns the dither on: one target type for both, so
+    /// that a panel can switch at run time.
+    pub fn truncating(inner: &'t mut T) -> Self {
+        Self {
+            inner,
+            dither: false,
+        }
+    }
+
+    /// Turns the dither on or off (off: truncation).
+    pub fn set_dither(&mut self, dither: bool) {
+        self.dither = dither;
     }
 }
 
@@ -107,11 +135,15 @@ impl<T: DrawTarget<Color = Rgb565>> DrawTarget for Rgb565Dither<'_, T> {
         &mut self,
         pixels: I,
     ) -> Result<(), Self::Error> {
-        self.inner.draw_iter(
-            pixels
-                .into_iter()
-                .map(|Pixel(p, c)| Pixel(p, dither_rgb565(c, p))),
-        )
+        let dither = self.dither;
+        self.inner.draw_iter(pixels.into_iter().map(|Pixel(p, c)| {
+            let converted = if dither {
+                dither_rgb565(c, p)
+            } else {
+                truncate_rgb565(c)
+            };
+            Pixel(p, converted)
+        }))
     }
 
     fn fill_contiguous<I: IntoIterator<Item = Rgb888>>(
@@ -119,9 +151,13 @@ impl<T: DrawTarget<Color = Rgb565>> DrawTarget for Rgb565Dither<'_, T> {
         area: &Rectangle,
         colors: I,
     ) -> Result<(), Self::Error> {
+        if !self.dither {
+            let truncated = colors.into_iter().map(truncate_rgb565);
+            return self.inner.fill_contiguous(area, truncated);
+        }
         if area.size.height == 1 {
             // A row (the renderer's case): one row of thresholds, the column by counting.
-            let row = THRESHOLDS
+            let row = OFFSETS
                 .get((area.top_left.y & 3) as usize)
                 .copied()
                 .unwrap_or([0; 4]);
@@ -138,6 +174,9 @@ impl<T: DrawTarget<Color = Rgb565>> DrawTarget for Rgb565Dither<'_, T> {
     }
 
     fn fill_solid(&mut self, area: &Rectangle, color: Rgb888) -> Result<(), Self::Error> {
+        if !self.dither {
+            return self.inner.fill_solid(area, truncate_rgb565(color));
+        }
         let dithered = area.points().map(|p| dither_rgb565(color, p));
         self.inner.fill_contiguous(area, dithered)
     }
@@ -162,7 +201,16 @@ mod tests {
     }
 
     #[test]
-    fn the_shift_form_is_the_division() {
+    fn the_offsets_are_the_thresholds() {
+        for (offsets, thresholds) in OFFSETS.iter().zip(THRESHOLDS) {
+            for (&k, t) in offsets.iter().zip(thresholds) {
+                assert_eq!(k, (u32::from(t) + 1) * 257);
+            }
+        }
+    }
+
+    #[test]
+    fn the_threshold_form_is_the_exact_level() {
         for v in 0..=255u8 {
             for levels in [31u16, 63] {
                 for m in 0..16u16 {
@@ -170,6 +218,23 @@ mod tests {
                         + (2 * u32::from(m) + 1) * 255)
                         / (255 * 32);
                     assert_eq!(u32::from(channel(v, levels, threshold(m))), exact);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_multiply_shift_form_is_the_division() {
+        // Every red and blue value with every threshold (green runs alongside).
+        for r in 0..=255u8 {
+            for b in 0..=255u8 {
+                for m in 0..16u16 {
+                    let t = threshold(m);
+                    let g = r.wrapping_add(b);
+                    let alone =
+                        Rgb565::new(channel(r, 31, t), channel(g, 63, t), channel(b, 31, t));
+                    let k = (u32::from(t) + 1) * 257;
+                    assert_eq!(quantize(Rgb888::new(r, g, b), k), alone, "{r} {g} {b} {t}");
                 }
             }
         }

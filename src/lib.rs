@@ -37,6 +37,8 @@
 //! | `texture` | in `full` | textures and the textured plane |
 //! | `spotlight` | in `full` | spotlights |
 //! | `reflection`, `transparency`, `glint` | in `full` | mirror rays (`specular`), transmission and filtered shadows (`transparency`), Blinn-Phong glints (`shininess`; needs `reflection`) |
+//! | `projector`, `revsurf` | in `full` | projectors (lights that shine a texture) and surfaces of revolution |
+//! | `antialias` | in `full` | anti-aliasing at fixed sample positions (`render::Antialias`): a grid of samples per pixel, or only on edges |
 //! | `sdl` | no | `examples/simulator.rs` opens an SDL window |
 //!
 //! Without default features the crate is `#![no_std]`, has no `alloc`, and builds for

@@ -203,7 +203,10 @@ fn render_scene(name: &str, scene: &FirmwareScene) -> Result<(), &'static str> {
     if DITHER {
         report_frame(name, "", Ok(()));
         stack::paint();
-        render_dithered(name, scene)?;
+        render_rgb565(name, scene, false)?;
+        report_frame(name, "+rgb565", Ok(()));
+        stack::paint();
+        render_rgb565(name, scene, true)?;
     }
     #[cfg(feature = "antialias")]
     if ANTIALIAS {
@@ -320,10 +323,11 @@ impl DrawTarget for Rgb565File {
     }
 }
 
-/// Renders a scene through `Rgb565Dither` into `<name>+dither.rgb`.
+/// Renders a scene into an Rgb565 target through `Rgb565Dither`, dithering into
+/// `<name>+dither.rgb` or truncating into `<name>+rgb565.rgb`.
 #[inline(never)]
-fn render_dithered(name: &str, scene: &FirmwareScene) -> Result<(), &'static str> {
-    let suffix = "+dither";
+fn render_rgb565(name: &str, scene: &FirmwareScene, dither: bool) -> Result<(), &'static str> {
+    let suffix = if dither { "+dither" } else { "+rgb565" };
     let mut file = [0u8; 56];
     let len = name.len().min(40);
     file[..len].copy_from_slice(&name.as_bytes()[..len]);
@@ -335,14 +339,21 @@ fn render_dithered(name: &str, scene: &FirmwareScene) -> Result<(), &'static str
     let mut panel = Rgb565File {
         out: RowFile { handle },
     };
-    let mut row = [Rgb888::BLACK; WIDTH as usize];
     let all = Rectangle::new(
         Point::zero(),
         Size::new(u32::from(WIDTH), u32::from(HEIGHT)),
     );
+    let renderer = Renderer::new(scene);
+    // One target type for both frames, so that both run the same code but the conversion.
+    let mut converting = if dither {
+        microray::dither::Rgb565Dither::new(&mut panel)
+    } else {
+        microray::dither::Rgb565Dither::truncating(&mut panel)
+    };
+    let mut row = [Rgb888::BLACK; WIDTH as usize];
     microray_count_start();
-    let result = Renderer::new(scene).render_area(
-        &mut microray::dither::Rgb565Dither::new(&mut panel),
+    let result = renderer.render_area(
+        &mut converting,
         all,
         &mut row,
         |_| ControlFlow::Continue(()),

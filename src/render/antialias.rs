@@ -131,13 +131,17 @@ impl Samples {
 
     /// Sample `k`'s offset on the image plane, for a camera of pixel pitch `pitch`.
     pub fn shift<S: Scalar>(self, k: u16, pitch: [S; 2]) -> [S; 2] {
+        self.shift_of(self.offset(k), pitch)
+    }
+
+    /// An [`offset`](Self::offset) on the image plane, for a camera of pixel pitch `pitch`.
+    fn shift_of<S: Scalar>(self, [x, y]: [i32; 2], pitch: [S; 2]) -> [S; 2] {
         let denominator = 2 * self.count();
         let along = |offset: i32, pitch: S| {
             // |offset| < count <= 256: fits u16.
             let size = pitch.mul_ratio(offset.unsigned_abs() as u16, denominator);
             if offset < 0 { S::ZERO - size } else { size }
         };
-        let [x, y] = self.offset(k);
         [along(x, pitch[0]), along(y, pitch[1])]
     }
 }
@@ -297,9 +301,31 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
                 .height()
                 .saturating_sub(1)
                 .saturating_sub(y);
+            let last = self.renderer.camera.width().saturating_sub(1);
+            let width = sums.len();
             for k in 0..count {
-                let shift = self.samples.shift(k, self.pitch);
-                self.add_row(camera_y, left, shift, sums, false);
+                let [x, y] = self.samples.offset(k);
+                let y = self.inside(y, camera_y, self.renderer.camera.height());
+                let shift = self.samples.shift_of([x, y], self.pitch);
+                // The image's first and last columns take the samples that would leave the
+                // image mirrored into it.
+                let mirror_first = left == 0 && x < 0;
+                let mirror_last = usize::from(left) + width == usize::from(last) + 1 && x > 0;
+                let (lo, hi) = (usize::from(mirror_first), width - usize::from(mirror_last));
+                if let Some(middle) = sums.get_mut(lo..hi) {
+                    self.add_row(camera_y, left + lo as u16, shift, middle, false);
+                }
+                let mirrored = self.samples.shift_of([-x, y], self.pitch);
+                if mirror_first {
+                    if let Some(p) = sums.first_mut() {
+                        p.add(self.sample(camera_y, 0, mirrored, Among::All));
+                    }
+                }
+                if mirror_last {
+                    if let Some(p) = sums.last_mut() {
+                        p.add(self.sample(camera_y, last, mirrored, Among::All));
+                    }
+                }
             }
             let line = Rectangle::new(
                 Point::new(area.top_left.x, i32::from(y)),
@@ -335,22 +361,49 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
         let top = u16::try_from(area.top_left.y).unwrap_or(0);
         let width = u16::try_from(area.size.width).unwrap_or(0);
         let total = u16::try_from(area.size.height).unwrap_or(0);
-        // A row's plain pixels with one more on each side (the row's slot).
+        // A row's plain pixels with one more on each side where the image has them (the
+        // row's slot: from column `left - 1`, or from `left` at the image's side, in slot 1).
         let slot = usize::from(width) + 2;
         let (mut this, rest) = buffer.split_at_mut(slot.min(buffer.len()));
         let mut below = rest.get_mut(..slot).unwrap_or_default();
-        // The row above the area's first, for its comparisons, then the first.
-        self.plain_row(i32::from(top) - 1, left, this);
-        self.plain_row(i32::from(top), left, below);
-        mark_edges(below, threshold);
-        mark_between(this, below, threshold);
-        core::mem::swap(&mut this, &mut below);
+        let image_width = self.renderer.camera.width();
+        let first = left.saturating_sub(1);
+        let skip = usize::from(left == 0);
+        let end = (usize::from(image_width.saturating_sub(first)) + skip).min(slot);
+        let columns = skip..end;
         let height = self.renderer.camera.height();
+        // The row above the area's first, for its comparisons, then the first.
+        let above = top > 0;
+        if above {
+            self.plain_row(
+                top - 1,
+                first,
+                this.get_mut(columns.clone()).unwrap_or_default(),
+            );
+        }
+        let mut next = below.get_mut(columns.clone()).unwrap_or_default();
+        self.plain_row(top, first, next);
+        mark_edges(next, threshold);
+        if above {
+            mark_between(
+                this.get_mut(columns.clone()).unwrap_or_default(),
+                next,
+                threshold,
+            );
+        }
+        core::mem::swap(&mut this, &mut below);
         for done in 1..=total {
             let y = top.saturating_add(done - 1);
-            self.plain_row(i32::from(y) + 1, left, below);
-            mark_edges(below, threshold);
-            mark_between(this, below, threshold);
+            if y.saturating_add(1) < height {
+                next = below.get_mut(columns.clone()).unwrap_or_default();
+                self.plain_row(y + 1, first, next);
+                mark_edges(next, threshold);
+                mark_between(
+                    this.get_mut(columns.clone()).unwrap_or_default(),
+                    next,
+                    threshold,
+                );
+            }
             let camera_y = height.saturating_sub(1).saturating_sub(y);
             let objects = self.renderer.row_objects(y);
             let shown = this
@@ -441,65 +494,53 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
         }
     }
 
-    /// Image row `y`'s plain pixels (0 the top) from column `left - 1` into `slot`, each
-    /// with the object it sees. Rows and columns beyond the image are the rays one pitch
-    /// beyond its edge, so that an edge running along the border between the plain rays
-    /// (a floor crossing the image plane there) is found too.
-    fn plain_row(&self, y: i32, left: u16, slot: &mut [AaPixel]) {
-        slot.fill(AaPixel::NEW);
-        let camera = self.renderer.camera;
-        let [pitch_x, pitch_y] = self.pitch;
-        let top = camera.height().saturating_sub(1);
-        let (camera_y, shift_y) = match u16::try_from(y) {
-            Ok(y) if y <= top => (top - y, S::ZERO),
-            Ok(_) => (0, S::ZERO - pitch_y),
-            Err(_) => (top, pitch_y),
-        };
-        // The columns in the image: from `left - 1` (slot 0), or from `left` (slot 1) at
-        // the image's left side, to the end of the slot or of the image.
-        let first = left.saturating_sub(1);
-        let skip = usize::from(left == 0);
-        let in_image =
-            usize::from(camera.width().saturating_sub(first)).min(slot.len().saturating_sub(skip));
-        let shift = [S::ZERO, shift_y];
-        if let Some(real) = slot.get_mut(skip..skip + in_image) {
-            self.add_row(camera_y, first, shift, real, true);
-        }
-        // The columns beyond the image's sides.
-        let beyond = |x: u16, shift_x: S| {
-            let ray = camera
-                .shifted_row_rays(camera_y, x, [shift_x, shift_y])
-                .next()
-                .flatten();
-            let mut p = AaPixel::NEW;
-            p.add(self.renderer.color(self.shader, ray, Among::All));
-            p.object = seen(ray.and_then(|r| self.shader.first_object_among(&r, Among::All)));
-            p
-        };
-        if left == 0 {
-            if let Some(p) = slot.first_mut() {
-                *p = beyond(0, S::ZERO - pitch_x);
-            }
-        }
-        if let Some(p) = slot.get_mut(skip + in_image) {
-            *p = beyond(camera.width().saturating_sub(1), pitch_x);
-        }
+    /// Image row `y`'s plain pixels (0 the top) from column `first` into `row` (as many
+    /// as it holds), each with the object it sees.
+    fn plain_row(&self, y: u16, first: u16, row: &mut [AaPixel]) {
+        row.fill(AaPixel::NEW);
+        let camera_y = self
+            .renderer
+            .camera
+            .height()
+            .saturating_sub(1)
+            .saturating_sub(y);
+        self.add_row(camera_y, first, [S::ZERO; 2], row, true);
+    }
+
+    /// A sample offset (in `1 / (2 count)` of a pixel) along an axis of `size` pixels at
+    /// pixel `at`, mirrored into the image where it would leave it: the first and last
+    /// pixels' footprints end at the window's edge, as the course's pixels do (their
+    /// points lie on it).
+    fn inside(&self, offset: i32, at: u16, size: u16) -> i32 {
+        let leaves = (at == 0 && offset < 0) || (at.saturating_add(1) >= size && offset > 0);
+        if leaves { -offset } else { offset }
+    }
+
+    /// The colour of one sample, shifted by `shift` from pixel `(x, camera_y)`.
+    fn sample(&self, camera_y: u16, x: u16, shift: [S; 2], among: Among<'_, S>) -> Rgb888 {
+        let ray = self
+            .renderer
+            .camera
+            .shifted_row_rays(camera_y, x, shift)
+            .next()
+            .flatten();
+        self.renderer.color(self.shader, ray, among)
     }
 
     /// The mean of pixel `(x, camera_y)`'s samples, each traced alone among the row's
     /// objects (their sub-pixel offsets stay within the row's list: see [`crate::plan`]).
     fn supersampled(&self, camera_y: u16, x: u16, among: Among<'_, S>) -> Rgb888 {
+        let camera = self.renderer.camera;
         let mut sum = AaPixel::NEW;
         let count = self.samples.count();
         for k in 0..count {
-            let shift = self.samples.shift(k, self.pitch);
-            let ray = self
-                .renderer
-                .camera
-                .shifted_row_rays(camera_y, x, shift)
-                .next()
-                .flatten();
-            sum.add(self.renderer.color(self.shader, ray, among));
+            let [ox, oy] = self.samples.offset(k);
+            let offset = [
+                self.inside(ox, x, camera.width()),
+                self.inside(oy, camera_y, camera.height()),
+            ];
+            let shift = self.samples.shift_of(offset, self.pitch);
+            sum.add(self.sample(camera_y, x, shift, among));
         }
         sum.mean(count)
     }

@@ -522,8 +522,10 @@ pub(crate) fn measure(
                 let Some(frame) = counts.get(&(index as u64)) else {
                     continue;
                 };
-                let wanted = options.only.is_empty()
-                    || options.only.split(',').any(|scene| scene == row.scene);
+                // Every frame of a wanted scene (`spec0`, `spec0+preview`, ...).
+                let base = row.scene.split('+').next().unwrap_or(&row.scene);
+                let wanted =
+                    options.only.is_empty() || options.only.split(',').any(|scene| scene == base);
                 if !wanted {
                     continue;
                 }
@@ -894,7 +896,7 @@ fn compare(
             .iter()
             .find(|(suffix, _)| name.ends_with(suffix))
             .map(|&(_, aa)| aa);
-        let scene = ["+noplan", "+preview", "+progressive", "+dither"]
+        let scene = ["+noplan", "+preview", "+progressive", "+dither", "+rgb565"]
             .iter()
             .chain(AA_MODES.iter().map(|(suffix, _)| suffix))
             .find_map(|suffix| name.strip_suffix(suffix))
@@ -917,6 +919,8 @@ fn compare(
         // The dithered frame is the host's frame through the same dither, expanded back.
         let host = if name.ends_with("+dither") {
             host.map(|h| dithered(&h, width))
+        } else if name.ends_with("+rgb565") {
+            host.map(|h| truncated(&h))
         } else {
             host
         };
@@ -1166,6 +1170,18 @@ pub(crate) fn antialias_table(rows: &[Row], width: u16, height: u16) -> String {
     out
 }
 
+/// RGB bytes as an Rgb565 panel shows them truncated (`microray::dither`), expanded back.
+fn truncated(rgb: &[u8]) -> Vec<u8> {
+    use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
+    rgb.chunks(3)
+        .flat_map(|c| {
+            let c = microray::dither::truncate_rgb565(Rgb888::new(c[0], c[1], c[2]));
+            let t = Rgb888::from(c);
+            [t.r(), t.g(), t.b()]
+        })
+        .collect()
+}
+
 /// RGB bytes as an Rgb565 panel shows them through `microray::dither`, expanded back.
 fn dithered(rgb: &[u8], width: u16) -> Vec<u8> {
     use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
@@ -1190,34 +1206,53 @@ fn dither_table(rows: &[Row], width: u16, height: u16) -> String {
     let mut out = format!(
         "# The Rgb565 dither in QEMU\n\n\
          Written by `cargo xtask qemu --dither`: every scene at {width}x{height}, rendered \
-         plainly (Rgb888 rows out) and through `microray::dither::Rgb565Dither` into an \
-         Rgb565 target; the dithered frame's colours are pulled (and dithered) while \
-         counting, its expansion and writes are not. Cost: the difference in instructions \
-         a pixel. The dithered frame is compared byte for byte with the host's frame through \
-         the same dither (identical).\n\n\
-         | scene | machine | number | plain instr/px | dithered instr/px | cost | identical |\n\
-         |---|---|---|---|---|---|---|\n"
+         plainly (Rgb888 rows out), and into an Rgb565 target through \
+         `microray::dither::Rgb565Dither`, once truncating (`Rgb565Dither::truncating`: what \
+         a panel costs without a dither) and once dithering; one target type, so both frames \
+         run the same code but the conversion. The Rgb565 frames' \
+         colours are pulled (and dithered) while counting, their expansion and writes are \
+         not. Cost: the dithered frame's instructions a pixel over the truncated one's (and \
+         over the plain one's). Both Rgb565 frames are compared byte for byte with the \
+         host's frame converted the same way (identical).\n\n\
+         | scene | machine | number | plain instr/px | truncated | dithered | cost over truncated | over plain | identical |\n\
+         |---|---|---|---|---|---|---|---|---|\n"
     );
+    let mut costs: BTreeMap<(&str, &str), Vec<f64>> = BTreeMap::new();
     for plain in rows.iter().filter(|r| !r.scene.contains('+')) {
-        let Some(dither) = rows.iter().find(|r| {
-            r.scene == format!("{}+dither", plain.scene)
-                && r.number == plain.number
-                && r.machine == plain.machine
-        }) else {
+        let find = |suffix: &str| {
+            rows.iter().find(|r| {
+                r.scene == format!("{}{suffix}", plain.scene)
+                    && r.number == plain.number
+                    && r.machine == plain.machine
+            })
+        };
+        let (Some(dither), Some(truncated)) = (find("+dither"), find("+rgb565")) else {
             continue;
         };
-        let (a, b) = (plain.insns as f64 / pixels, dither.insns as f64 / pixels);
-        let identical = matches!(dither.identical, Ok(true));
+        let per_pixel = |r: &Row| r.insns as f64 / pixels;
+        let (a, t, d) = (per_pixel(plain), per_pixel(truncated), per_pixel(dither));
+        let identical =
+            matches!(dither.identical, Ok(true)) && matches!(truncated.identical, Ok(true));
+        costs
+            .entry((plain.machine, plain.number_name()))
+            .or_default()
+            .push(d - t);
         out.push_str(&format!(
-            "| {} | {} | {} | {:.0} | {:.0} | {:+.1} | {} |\n",
+            "| {} | {} | {} | {a:.0} | {t:.0} | {d:.0} | {:+.1} | {:+.1} | {} |\n",
             plain.scene,
             plain.machine,
             plain.number_name(),
-            a,
-            b,
-            b - a,
+            d - t,
+            d - a,
             if identical { "yes" } else { "no" }
         ));
     }
+    out.push_str("\nMedian cost over the truncated frame, instructions a pixel:");
+    for ((machine, number), mut list) in costs {
+        list.sort_by(f64::total_cmp);
+        let median = list.get(list.len() / 2).copied().unwrap_or(0.0);
+        out.push_str(&format!(" {machine} {number} {median:+.1};"));
+    }
+    out.push('\n');
     out
 }

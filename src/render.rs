@@ -398,6 +398,8 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
             let y = top.saturating_add(done - 1);
             let camera_y = self.camera.height().saturating_sub(1).saturating_sub(y);
             let rays = self.camera.row_rays(camera_y, left);
+            // As `fill_row` (written out: sharing it moves the M0 firmware's flash by
+            // hundreds of bytes, over its 64 KiB).
             match self.row_tests(camera_y, &rays) {
                 Some(tests) => {
                     match self.row_shading(&shader, &tests, &rays) {
@@ -434,6 +436,43 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
             }
         }
         Ok(Rendered::Complete)
+    }
+}
+
+/// What a row's pixels share, borrowed where the row's preparation lives (the object list
+/// holds `OBJECTS` slots: not worth copying).
+enum RowWork<'a, 'r, S: Scalar> {
+    /// The plan's objects and their row tests, and the row's shading when its pixels share
+    /// a plane.
+    Planned(&'a [RowEntry<S>], Option<&'a RowShading<'r, S>>),
+    /// Every object, every pixel alone (no plan).
+    All,
+}
+
+impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
+    /// Shades the rays `rays` of a row prepared as `work` into `row` (as many as it holds).
+    #[inline]
+    fn fill_row<C: From<Rgb888>>(
+        &self,
+        shader: &Shader<'_, S>,
+        work: RowWork<'_, '_, S>,
+        rays: RowRays<S>,
+        row: &mut [C],
+    ) {
+        match work {
+            // A plane at the same `t` for every ray of the row.
+            RowWork::Planned(tests, Some(shading)) => shade_row(shader, shading, tests, rays, row),
+            RowWork::Planned(tests, None) => {
+                for (slot, ray) in row.iter_mut().zip(rays) {
+                    *slot = self.color_in_row(shader, ray, tests).into();
+                }
+            }
+            RowWork::All => {
+                for (slot, ray) in row.iter_mut().zip(rays) {
+                    *slot = self.color(shader, ray, Among::All).into();
+                }
+            }
+        }
     }
 }
 

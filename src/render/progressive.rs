@@ -15,12 +15,10 @@
 //! Pass 1 traces 1/64 of the pixels, pass 2 3/64, pass 3 12/64; the last pass traces the
 //! odd rows whole (1/2) and the odd pixels of the even rows (1/4).
 
-use super::{RenderError, Rendered, Renderer, bytes};
+use super::{RenderError, Rendered, Renderer, RowWork};
 use crate::camera::RowRays;
-use crate::object::{Among, RowEntry};
 use crate::scalar::Scalar;
-use crate::shade::{RowShading, Shader, ShadowCache};
-use crate::vec3::Vec3;
+use crate::shade::{Shader, ShadowCache};
 use core::ops::ControlFlow;
 use embedded_graphics::pixelcolor::Rgb888;
 use embedded_graphics::prelude::{DrawTarget, Pixel, Point, Size};
@@ -40,14 +38,14 @@ pub struct PassDone {
     pub total: u8,
 }
 
-/// What a row's traced pixels share, borrowed where the row's preparation lives (the
-/// object list holds `OBJECTS` slots: not worth copying).
-enum RowWork<'a, 'r, S: Scalar> {
-    /// The plan's objects and their row tests, and the row's shading when its pixels share
-    /// a plane.
-    Planned(&'a [RowEntry<S>], Option<&'a RowShading<'r, S>>),
-    /// Every object, every pixel alone (no plan).
-    All,
+/// The pixels of a row a pass traces: row `y`, from column `first`, `stride` apart, each
+/// filling a `block`-sided square.
+#[derive(Clone, Copy)]
+struct Traced {
+    y: u16,
+    first: u16,
+    stride: u16,
+    block: u16,
 }
 
 impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
@@ -144,7 +142,13 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
                     (block, coarser)
                 };
                 self.with_row(&shader, y, |_, work| {
-                    self.row_of_blocks(&shader, target, y, first, stride, block, work)
+                    let traced = Traced {
+                        y,
+                        first,
+                        stride,
+                        block,
+                    };
+                    self.row_of_blocks(&shader, target, traced, work, row)
                 })?;
             }
             y = y.saturating_add(block);
@@ -171,84 +175,49 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         }
     }
 
-    /// Traces the pixels of image row `y` from `first`, `stride` apart (the row prepared
-    /// as `work`), and fills a `block`-sided square from each.
-    #[allow(clippy::too_many_arguments)]
+    /// Traces the pixels of a row `traced` names (the row prepared as `work`) into `row`,
+    /// then fills a block from each.
     fn row_of_blocks<D>(
         &self,
         shader: &Shader<'_, S>,
         target: &mut D,
-        y: u16,
-        first: u16,
-        stride: u16,
-        block: u16,
+        traced: Traced,
         work: RowWork<'_, '_, S>,
+        row: &mut [D::Color],
     ) -> Result<(), RenderError<D::Error>>
     where
         D: DrawTarget,
         D::Color: From<Rgb888>,
     {
+        let Traced {
+            y,
+            first,
+            stride,
+            block,
+        } = traced;
         let camera_y = self.camera.height().saturating_sub(1).saturating_sub(y);
         let stride = stride.max(1);
-        // Only the traced pixels' rays, the same as the row's.
+        // Only the traced pixels' rays, the same as the row's, shaded as whole rows are.
         let rays = self.camera.row_rays_every(camera_y, first, stride);
+        let count = usize::from(self.camera.width().saturating_sub(first).div_ceil(stride));
+        let colors = row.get_mut(..count).unwrap_or_default();
+        self.fill_row(shader, work, rays, colors);
         let columns = (first..self.camera.width()).step_by(usize::from(stride));
-        let traced = columns.zip(rays);
-        // The row's fast case in a loop of its own, as `shade_row` has it.
-        match work {
-            RowWork::Planned(_, Some(shading)) if shading.plain() => {
-                let colors = traced.map(|(x, ray)| {
-                    let c = ray.map_or(Vec3::ZERO, |ray| shader.shade_in_plain_row(shading, &ray));
-                    (x, bytes(c))
-                });
-                self.emit(target, y, block, colors)
-            }
-            RowWork::Planned(tests, Some(shading)) => {
-                let colors = traced.map(|(x, ray)| {
-                    let c = ray.map_or(Vec3::ZERO, |ray| shader.shade_in_row(shading, tests, &ray));
-                    (x, bytes(c))
-                });
-                self.emit(target, y, block, colors)
-            }
-            RowWork::Planned(tests, None) => {
-                let colors = traced.map(|(x, ray)| (x, self.color_in_row(shader, ray, tests)));
-                self.emit(target, y, block, colors)
-            }
-            RowWork::All => {
-                let colors = traced.map(|(x, ray)| (x, self.color(shader, ray, Among::All)));
-                self.emit(target, y, block, colors)
-            }
-        }
-    }
-
-    /// Writes the traced pixels of image row `y`: each fills its `block`-sided square (cut
-    /// at the image's right and bottom edges), or, for single pixels, one `draw_iter` for
-    /// the row. The colours are computed as the target takes them.
-    fn emit<D>(
-        &self,
-        target: &mut D,
-        y: u16,
-        block: u16,
-        colors: impl Iterator<Item = (u16, Rgb888)>,
-    ) -> Result<(), RenderError<D::Error>>
-    where
-        D: DrawTarget,
-        D::Color: From<Rgb888>,
-    {
+        let pixels = columns.zip(colors.iter().copied());
         if block == 1 {
-            let pixels =
-                colors.map(|(x, c)| Pixel(Point::new(i32::from(x), i32::from(y)), c.into()));
+            let y = i32::from(y);
+            let pixels = pixels.map(|(x, c)| Pixel(Point::new(i32::from(x), y), c));
             return target.draw_iter(pixels).map_err(RenderError::Target);
         }
         let (width, height) = (self.camera.width(), self.camera.height());
         let rows = u32::from(block.min(height.saturating_sub(y)));
-        for (x, color) in colors {
+        for (x, color) in pixels {
             let square = Rectangle::new(
                 Point::new(i32::from(x), i32::from(y)),
                 Size::new(u32::from(block.min(width.saturating_sub(x))), rows),
             );
             target
-                .fill_solid(&square, color.into())
+                .fill_solid(&square, color)
                 .map_err(RenderError::Target)?;
         }
         Ok(())
@@ -266,21 +235,7 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         D: DrawTarget,
         D::Color: From<Rgb888>,
     {
-        self.with_row(shader, y, |rays, work| match work {
-            RowWork::Planned(tests, Some(shading)) => {
-                super::shade_row(shader, shading, tests, rays, row);
-            }
-            RowWork::Planned(tests, None) => {
-                for (slot, ray) in row.iter_mut().zip(rays) {
-                    *slot = self.color_in_row(shader, ray, tests).into();
-                }
-            }
-            RowWork::All => {
-                for (slot, ray) in row.iter_mut().zip(rays) {
-                    *slot = self.color(shader, ray, Among::All).into();
-                }
-            }
-        });
+        self.with_row(shader, y, |rays, work| self.fill_row(shader, work, rays, row));
         let line = Rectangle::new(
             Point::new(0, i32::from(y)),
             Size::new(u32::from(self.camera.width()), 1),

@@ -18,8 +18,11 @@ use std::path::{Path, PathBuf};
 /// A framebuffer that counts the pixels each kind of call writes.
 struct Counting {
     frame: Framebuffer,
+    /// The side of the current pass's blocks.
+    block: u32,
     /// Pixels traced: one per `fill_solid` (a block's own pixel), one per pixel of a
-    /// `fill_contiguous` row or of a `draw_iter`.
+    /// one-row `fill_contiguous` or of a `draw_iter`, one per block of a taller
+    /// `fill_contiguous` (a row of blocks, checked to be blocks of one colour each).
     traced: usize,
     /// The pixels written at least once so far.
     covered: Vec<bool>,
@@ -65,7 +68,24 @@ impl DrawTarget for Counting {
         area: &Rectangle,
         colors: I,
     ) -> Result<(), Self::Error> {
-        self.traced += area.size.width as usize * area.size.height as usize;
+        let colors: Vec<Rgb888> = colors.into_iter().collect();
+        let (width, height) = (area.size.width as usize, area.size.height as usize);
+        assert_eq!(colors.len(), width * height);
+        if height == 1 {
+            self.traced += width;
+        } else {
+            // A row of blocks: `block` wide (the last one cut), every row alike.
+            let block = self.block as usize;
+            assert!(height <= block, "{height} rows of blocks of {block}");
+            let first = &colors[..width];
+            for row in colors.chunks(width) {
+                assert_eq!(row, first, "the rows of a row of blocks differ");
+            }
+            for run in first.chunks(block) {
+                assert!(run.iter().all(|&c| c == run[0]), "a block of two colours");
+            }
+            self.traced += width.div_ceil(block);
+        }
         self.cover(area);
         self.frame.fill_contiguous(area, colors)
     }
@@ -93,19 +113,17 @@ fn check<S: Scalar>(path: &Path) {
         .unwrap();
     let mut progressive = Counting {
         frame: Framebuffer::new(size),
+        block: 0,
         traced: 0,
         covered: vec![false; (size.width * size.height) as usize],
     };
-    let mut passes = Vec::new();
-    let done = renderer
-        .render_progressive(&mut progressive, &mut row, |pass| {
-            passes.push(pass.block);
-            ControlFlow::Continue(())
-        })
-        .unwrap();
-    assert_eq!(done, Rendered::Complete);
+    for (pass, &block) in BLOCKS.iter().enumerate() {
+        progressive.block = u32::from(block);
+        renderer
+            .render_pass(&mut progressive, &mut row, pass)
+            .unwrap();
+    }
     let name = format!("{} in {}", path.display(), S::NAME);
-    assert_eq!(passes, BLOCKS, "{name}");
     assert_eq!(
         progressive.traced,
         (size.width * size.height) as usize,
@@ -130,6 +148,27 @@ fn the_progressive_order_gives_the_plain_image_in_every_type() {
 }
 
 #[test]
+fn render_progressive_runs_the_passes_in_order() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/vases.txt");
+    let text = std::fs::read(&path).unwrap();
+    let scene: HostScene<'_, f32> =
+        parse_scene(&text, texture_files(path.parent().unwrap())).unwrap();
+    let renderer: HostRenderer<'_, f32> = Renderer::new(&scene);
+    let mut frame = Framebuffer::new(renderer.size());
+    let mut row = vec![Rgb888::BLACK; renderer.size().width as usize];
+    let mut passes = Vec::new();
+    let done = renderer
+        .render_progressive(&mut frame, &mut row, |pass| {
+            passes.push(pass.block);
+            ControlFlow::Continue(())
+        })
+        .unwrap();
+    assert_eq!(done, Rendered::Complete);
+    assert_eq!(passes, BLOCKS);
+    assert!(frame.rgb() == common::image(&renderer).rgb());
+}
+
+#[test]
 fn the_first_pass_covers_the_image() {
     // Stop after the first pass: every pixel is written, with 1/64 of them traced.
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/vases.txt");
@@ -140,6 +179,7 @@ fn the_first_pass_covers_the_image() {
     let size = renderer.size();
     let mut target = Counting {
         frame: Framebuffer::new(size),
+        block: 8,
         traced: 0,
         covered: vec![false; (size.width * size.height) as usize],
     };

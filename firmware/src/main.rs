@@ -381,8 +381,9 @@ impl DrawTarget for Frame<'_> {
     type Error = ();
 
     fn draw_iter<I: IntoIterator<Item = Pixel<Rgb>>>(&mut self, pixels: I) -> Result<(), ()> {
-        // Counted: the renderer shades each pixel as the iterator is pulled (the stores
-        // are a few instructions of it).
+        // The pixels are shaded before the call (the renderer's row buffer): only the
+        // output is here, not counted, as the other calls' is not.
+        microray_count_stop();
         for Pixel(p, c) in pixels {
             if let Some(slot) = self
                 .pixels
@@ -391,6 +392,7 @@ impl DrawTarget for Frame<'_> {
                 *slot = c;
             }
         }
+        microray_count_start();
         Ok(())
     }
 

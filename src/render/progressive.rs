@@ -10,10 +10,13 @@
 //!
 //! Each pixel is shaded as the plain order shades it: a row's plan (its object list, its
 //! objects' row tests and, where its pixels share a plane, its row shading) is prepared
-//! once per row and pass, and the rows the last pass traces whole are rendered as
-//! `render_area` renders rows, into the row buffer and out with one `fill_contiguous`.
-//! Pass 1 traces 1/64 of the pixels, pass 2 3/64, pass 3 12/64; the last pass traces the
-//! odd rows whole (1/2) and the odd pixels of the even rows (1/4).
+//! once per row and pass, and the row's traced pixels are shaded by the plain order's row
+//! loop into the row buffer before any is drawn. A row of a pass's own grid (every block
+//! of it new) goes out as one `fill_contiguous` of its blocks side by side; the others'
+//! blocks one `fill_solid` each; the last pass's rows traced whole as `render_area`'s rows,
+//! and its single pixels as one `draw_iter` a row. Pass 1 traces 1/64 of the pixels, pass 2
+//! 3/64, pass 3 12/64; the last pass traces the odd rows whole (1/2) and the odd pixels of
+//! the even rows (1/4).
 
 use super::{RenderError, Rendered, Renderer, RowWork};
 use crate::camera::RowRays;
@@ -203,18 +206,34 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         let colors = row.get_mut(..count).unwrap_or_default();
         self.fill_row(shader, work, rays, colors);
         let columns = (first..self.camera.width()).step_by(usize::from(stride));
+        let (width, height) = (self.camera.width(), self.camera.height());
+        let rows = block.min(height.saturating_sub(y));
+        if block > 1 && first == 0 && stride == block {
+            // A row of this pass's own grid: its blocks side by side, one rectangle (one
+            // call instead of one a block).
+            let line = || {
+                colors.iter().zip(columns.clone()).flat_map(move |(&c, x)| {
+                    core::iter::repeat_n(c, usize::from(block.min(width.saturating_sub(x))))
+                })
+            };
+            let area = Rectangle::new(
+                Point::new(0, i32::from(y)),
+                Size::new(u32::from(width), u32::from(rows)),
+            );
+            return target
+                .fill_contiguous(&area, (0..rows).flat_map(|_| line()))
+                .map_err(RenderError::Target);
+        }
         let pixels = columns.zip(colors.iter().copied());
         if block == 1 {
             let y = i32::from(y);
             let pixels = pixels.map(|(x, c)| Pixel(Point::new(i32::from(x), y), c));
             return target.draw_iter(pixels).map_err(RenderError::Target);
         }
-        let (width, height) = (self.camera.width(), self.camera.height());
-        let rows = u32::from(block.min(height.saturating_sub(y)));
         for (x, color) in pixels {
             let square = Rectangle::new(
                 Point::new(i32::from(x), i32::from(y)),
-                Size::new(u32::from(block.min(width.saturating_sub(x))), rows),
+                Size::new(u32::from(block.min(width.saturating_sub(x))), u32::from(rows)),
             );
             target
                 .fill_solid(&square, color)

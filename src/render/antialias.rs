@@ -406,19 +406,15 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
             }
             let camera_y = height.saturating_sub(1).saturating_sub(y);
             let objects = self.renderer.row_objects(y);
-            let shown = this
-                .iter()
-                .skip(1)
-                .take(usize::from(width))
-                .zip(left..)
-                .map(|(p, x)| {
-                    let c = if p.edge {
-                        self.supersampled(camera_y, x, among(&objects))
-                    } else {
-                        p.mean(1)
-                    };
-                    c.into()
-                });
+            // The edges' samples before the row goes out: the target's call is output only.
+            let shown = this.get_mut(1..=usize::from(width)).unwrap_or_default();
+            for (p, x) in shown.iter_mut().zip(left..) {
+                if p.edge {
+                    let c = self.supersampled(camera_y, x, among(&objects));
+                    p.sum = [c.r(), c.g(), c.b()].map(u16::from);
+                }
+            }
+            let shown = shown.iter().map(|p| p.mean(1).into());
             let line = Rectangle::new(
                 Point::new(i32::from(left), i32::from(y)),
                 Size::new(u32::from(width), 1),

@@ -233,7 +233,10 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         for (x, color) in pixels {
             let square = Rectangle::new(
                 Point::new(i32::from(x), i32::from(y)),
-                Size::new(u32::from(block.min(width.saturating_sub(x))), u32::from(rows)),
+                Size::new(
+                    u32::from(block.min(width.saturating_sub(x))),
+                    u32::from(rows),
+                ),
             );
             target
                 .fill_solid(&square, color)
@@ -254,7 +257,9 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         D: DrawTarget,
         D::Color: From<Rgb888>,
     {
-        self.with_row(shader, y, |rays, work| self.fill_row(shader, work, rays, row));
+        self.with_row(shader, y, |rays, work| {
+            self.fill_row(shader, work, rays, row)
+        });
         let line = Rectangle::new(
             Point::new(0, i32::from(y)),
             Size::new(u32::from(self.camera.width()), 1),

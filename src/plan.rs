@@ -196,13 +196,20 @@ impl<const OBJECTS: usize> Plan<OBJECTS> {
     /// The objects whose span contains row `y` (`y = 0` the bottom), in definition order.
     pub fn objects_in_row(&self, y: u16) -> Vec<u16, OBJECTS> {
         let mut row = Vec::new();
-        for (&index, span) in self.kept.iter().zip(&self.spans) {
-            if span.contains(y) {
-                // Cannot fail: at most as many as `kept` holds.
-                let _ = row.push(index);
-            }
+        for index in self.in_row(y) {
+            // Cannot fail: at most as many as `kept` holds.
+            let _ = row.push(index);
         }
         row
+    }
+
+    /// [`objects_in_row`](Self::objects_in_row) one by one, with no list to move.
+    pub fn in_row(&self, y: u16) -> impl Iterator<Item = u16> + '_ {
+        self.kept
+            .iter()
+            .zip(&self.spans)
+            .filter(move |(_, span)| span.contains(y))
+            .map(|(&index, _)| index)
     }
 }
 

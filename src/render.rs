@@ -319,12 +319,25 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
         camera_y: u16,
         rays: &RowRays<S>,
     ) -> Option<heapless::Vec<RowEntry<S>, OBJECTS>> {
+        let mut tests = heapless::Vec::new();
+        self.prepare_row(camera_y, rays, &mut tests)
+            .then_some(tests)
+    }
+
+    /// [`row_tests`](Self::row_tests) into `tests`, cleared first; `false` without a plan.
+    /// The list holds `OBJECTS` slots: filled where it lives instead of moved there.
+    fn prepare_row(
+        &self,
+        camera_y: u16,
+        rays: &RowRays<S>,
+        tests: &mut RowTests<S, OBJECTS>,
+    ) -> bool {
+        tests.clear();
         if !self.planned() {
-            return None;
+            return false;
         }
         let origin = rays.origin(self.shader.z_limit());
-        let mut tests = heapless::Vec::new();
-        for index in self.plan.objects_in_row(camera_y) {
+        for index in self.plan.in_row(camera_y) {
             // The tree's objects are found by walking it.
             if self.bvh.contains(index) {
                 continue;
@@ -335,7 +348,7 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
                 let _ = tests.push(RowEntry { index, test });
             }
         }
-        Some(tests)
+        true
     }
 
     /// Whether the pixels of image row `row` (0 the top) are shaded together, as a
@@ -394,28 +407,26 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
         // One cache per render: neighbouring pixels share their shadows' blockers.
         let cache = ShadowCache::new();
         let shader = self.shader().with_shadow_cache(&cache);
+        let mut tests = heapless::Vec::new();
         for done in 1..=total {
             let y = top.saturating_add(done - 1);
             let camera_y = self.camera.height().saturating_sub(1).saturating_sub(y);
             let rays = self.camera.row_rays(camera_y, left);
             // As `fill_row` (written out: sharing it moves the M0 firmware's flash by
             // hundreds of bytes, over its 64 KiB).
-            match self.row_tests(camera_y, &rays) {
-                Some(tests) => {
-                    match self.row_shading(&shader, &tests, &rays) {
-                        // A plane at the same `t` for every ray of the row.
-                        Some(shading) => shade_row(&shader, &shading, &tests, rays, row),
-                        None => {
-                            for (slot, ray) in row.iter_mut().zip(rays) {
-                                *slot = self.color_in_row(&shader, ray, &tests).into();
-                            }
+            if self.prepare_row(camera_y, &rays, &mut tests) {
+                match self.row_shading(&shader, &tests, &rays) {
+                    // A plane at the same `t` for every ray of the row.
+                    Some(shading) => shade_row(&shader, &shading, &tests, rays, row),
+                    None => {
+                        for (slot, ray) in row.iter_mut().zip(rays) {
+                            *slot = self.color_in_row(&shader, ray, &tests).into();
                         }
                     }
                 }
-                None => {
-                    for (slot, ray) in row.iter_mut().zip(rays) {
-                        *slot = self.color(&shader, ray, Among::All).into();
-                    }
+            } else {
+                for (slot, ray) in row.iter_mut().zip(rays) {
+                    *slot = self.color(&shader, ray, Among::All).into();
                 }
             }
             let line = Rectangle::new(
@@ -438,6 +449,9 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
         Ok(Rendered::Complete)
     }
 }
+
+/// A row's objects with their row tests (`OBJECTS` slots).
+type RowTests<S, const OBJECTS: usize> = heapless::Vec<RowEntry<S>, OBJECTS>;
 
 /// What a row's pixels share, borrowed where the row's preparation lives (the object list
 /// holds `OBJECTS` slots: not worth copying).

@@ -38,7 +38,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-use super::{RenderError, Rendered, Renderer, RowDone, among, bytes};
+use super::{RenderError, Rendered, Renderer, RowDone, RowTests, among, bytes};
 use crate::object::Among;
 use crate::ray::Ray;
 use crate::scalar::Scalar;
@@ -292,6 +292,8 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
             .get_mut(..area.size.width as usize)
             .unwrap_or_default();
         let count = self.samples.count();
+        // The rows' object tests, prepared in place row by row.
+        let mut tests = RowTests::new();
         for done in 1..=total {
             let y = top.saturating_add(done - 1);
             sums.fill(AaPixel::NEW);
@@ -313,7 +315,7 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
                 let mirror_last = usize::from(left) + width == usize::from(last) + 1 && x > 0;
                 let (lo, hi) = (usize::from(mirror_first), width - usize::from(mirror_last));
                 if let Some(middle) = sums.get_mut(lo..hi) {
-                    self.add_row(camera_y, left + lo as u16, shift, middle, false);
+                    self.add_row(&mut tests, camera_y, left + lo as u16, shift, middle, false);
                 }
                 let mirrored = self.samples.shift_of([-x, y], self.pitch);
                 if mirror_first {
@@ -365,6 +367,7 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
         // row's slot: from column `left - 1`, or from `left` at the image's side, in slot 1).
         let slot = usize::from(width) + 2;
         let (mut this, rest) = buffer.split_at_mut(slot.min(buffer.len()));
+        let mut tests = RowTests::new();
         let mut below = rest.get_mut(..slot).unwrap_or_default();
         let image_width = self.renderer.camera.width();
         let first = left.saturating_sub(1);
@@ -376,13 +379,14 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
         let above = top > 0;
         if above {
             self.plain_row(
+                &mut tests,
                 top - 1,
                 first,
                 this.get_mut(columns.clone()).unwrap_or_default(),
             );
         }
         let mut next = below.get_mut(columns.clone()).unwrap_or_default();
-        self.plain_row(top, first, next);
+        self.plain_row(&mut tests, top, first, next);
         mark_edges(next, threshold);
         if above {
             mark_between(
@@ -396,7 +400,7 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
             let y = top.saturating_add(done - 1);
             if y.saturating_add(1) < height {
                 next = below.get_mut(columns.clone()).unwrap_or_default();
-                self.plain_row(y + 1, first, next);
+                self.plain_row(&mut tests, y + 1, first, next);
                 mark_edges(next, threshold);
                 mark_between(
                     this.get_mut(columns.clone()).unwrap_or_default(),
@@ -437,6 +441,7 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
     /// [`Renderer::render_area`] shades a row; with `objects`, records what each sees.
     fn add_row(
         &self,
+        tests: &mut RowTests<S, OBJECTS>,
         camera_y: u16,
         first: u16,
         shift: [S; 2],
@@ -446,7 +451,7 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
         let renderer = self.renderer;
         let shader = self.shader;
         let rays = renderer.camera.shifted_row_rays(camera_y, first, shift);
-        let Some(tests) = renderer.row_tests(camera_y, &rays) else {
+        if !renderer.prepare_row(camera_y, &rays, tests) {
             for (p, ray) in sums.iter_mut().zip(rays) {
                 p.add(renderer.color(shader, ray, Among::All));
                 if objects {
@@ -454,10 +459,11 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
                 }
             }
             return;
-        };
+        }
+        let tests: &RowTests<S, OBJECTS> = tests;
         let first_object =
-            |ray: Option<Ray<S>>| seen(ray.and_then(|r| shader.first_object_in_row(&r, &tests)));
-        match renderer.row_shading(shader, &tests, &rays) {
+            |ray: Option<Ray<S>>| seen(ray.and_then(|r| shader.first_object_in_row(&r, tests)));
+        match renderer.row_shading(shader, tests, &rays) {
             // The row's fast case in a loop of its own, as `render_area` has it; every ray
             // meets the row's plane.
             Some(shading) if shading.plain() => {
@@ -472,7 +478,7 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
             }
             Some(shading) => {
                 for (p, ray) in sums.iter_mut().zip(rays) {
-                    let c = ray.map_or(Vec3::ZERO, |r| shader.shade_in_row(&shading, &tests, &r));
+                    let c = ray.map_or(Vec3::ZERO, |r| shader.shade_in_row(&shading, tests, &r));
                     p.add(bytes(c));
                     if objects {
                         p.object = first_object(ray);
@@ -481,7 +487,7 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
             }
             None => {
                 for (p, ray) in sums.iter_mut().zip(rays) {
-                    p.add(renderer.color_in_row(shader, ray, &tests));
+                    p.add(renderer.color_in_row(shader, ray, tests));
                     if objects {
                         p.object = first_object(ray);
                     }
@@ -492,7 +498,7 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
 
     /// Image row `y`'s plain pixels (0 the top) from column `first` into `row` (as many
     /// as it holds), each with the object it sees.
-    fn plain_row(&self, y: u16, first: u16, row: &mut [AaPixel]) {
+    fn plain_row(&self, tests: &mut RowTests<S, OBJECTS>, y: u16, first: u16, row: &mut [AaPixel]) {
         row.fill(AaPixel::NEW);
         let camera_y = self
             .renderer
@@ -500,7 +506,7 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
             .height()
             .saturating_sub(1)
             .saturating_sub(y);
-        self.add_row(camera_y, first, [S::ZERO; 2], row, true);
+        self.add_row(tests, camera_y, first, [S::ZERO; 2], row, true);
     }
 
     /// A sample offset (in `1 / (2 count)` of a pixel) along an axis of `size` pixels at

@@ -18,7 +18,7 @@
 //! 3/64, pass 3 12/64; the last pass traces the odd rows whole (1/2) and the odd pixels of
 //! the even rows (1/4).
 
-use super::{RenderError, Rendered, Renderer, RowWork};
+use super::{RenderError, Rendered, Renderer, RowTests, RowWork};
 use crate::camera::RowRays;
 use crate::scalar::Scalar;
 use crate::shade::{Shader, ShadowCache};
@@ -132,19 +132,21 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         let shader = self.shader().with_shadow_cache(&cache);
         // The previous pass's block: its grid's pixels are traced already.
         let coarser = if pass == 0 { 0 } else { block * 2 };
+        // The rows' object tests, prepared in place row by row.
+        let mut tests = heapless::Vec::new();
         let mut y = 0;
         while y < height {
             // A row of the coarser grid keeps its traced pixels: only the ones between.
             let new_row = coarser == 0 || y % coarser != 0;
             if block == 1 && new_row {
-                self.whole_row(&shader, target, y, row)?;
+                self.whole_row(&shader, target, y, row, &mut tests)?;
             } else {
                 let (first, stride) = if new_row {
                     (0, block)
                 } else {
                     (block, coarser)
                 };
-                self.with_row(&shader, y, |_, work| {
+                self.with_row(&shader, y, &mut tests, |_, work| {
                     let traced = Traced {
                         y,
                         first,
@@ -165,16 +167,16 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         &self,
         shader: &Shader<'r, S>,
         y: u16,
+        tests: &mut RowTests<S, OBJECTS>,
         f: impl FnOnce(RowRays<S>, RowWork<'_, 'r, S>) -> R,
     ) -> R {
         let camera_y = self.camera.height().saturating_sub(1).saturating_sub(y);
         let rays = self.camera.row_rays(camera_y, 0);
-        match self.row_tests(camera_y, &rays) {
-            Some(tests) => {
-                let shading = self.row_shading(shader, &tests, &rays);
-                f(rays, RowWork::Planned(&tests, shading.as_ref()))
-            }
-            None => f(rays, RowWork::All),
+        if self.prepare_row(camera_y, &rays, tests) {
+            let shading = self.row_shading(shader, tests, &rays);
+            f(rays, RowWork::Planned(tests, shading.as_ref()))
+        } else {
+            f(rays, RowWork::All)
         }
     }
 
@@ -252,12 +254,13 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         target: &mut D,
         y: u16,
         row: &mut [D::Color],
+        tests: &mut RowTests<S, OBJECTS>,
     ) -> Result<(), RenderError<D::Error>>
     where
         D: DrawTarget,
         D::Color: From<Rgb888>,
     {
-        self.with_row(shader, y, |rays, work| {
+        self.with_row(shader, y, tests, |rays, work| {
             self.fill_row(shader, work, rays, row)
         });
         let line = Rectangle::new(

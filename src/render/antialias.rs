@@ -20,21 +20,24 @@
 //! use microray::Scene;
 //! use core::ops::ControlFlow;
 //!
-//! let text = b"camera c { pixeldim 8 6 worlddim 8 6 viewpoint 4 3 3 }
-//!              material red { ambient 1 0 0 }
-//!              sphere ball { material red center 4 3 -5 radius 2 }";
-//! let scene: Scene<f32, 4, 4, 2, 0, 8> = parse_scene(text, no_textures)?;
+//! let text = b"camera c { pixeldim 16 12 worlddim 8 6 viewpoint 4 3 4 }
+//!              material red { ambient 50 0 0 }
+//!              sphere ball { material red center 4 3 -2 radius 2 }";
+//! let scene: Scene<f32, 4, 4, 2, 0, 16> = parse_scene(text, no_textures)?;
 //! let renderer = Renderer::new(&scene);
 //! let aa = Antialias::Adaptive { samples: Samples::rotated(16).ok_or("not a square")?, threshold: 8 };
 //! // Two rows and a pixel each side: no frame in memory.
-//! let mut buffer = [AaPixel::NEW; Antialias::buffer_len(8)];
+//! let mut buffer = [AaPixel::NEW; Antialias::buffer_len(16)];
 //! let mut display = MockDisplay::<Rgb888>::new();
 //! let all = Rectangle::new(Point::zero(), renderer.size());
 //! renderer
 //!     .render_antialiased(&mut display, all, aa, &mut buffer, |_| ControlFlow::Continue(()))
 //!     .map_err(|_| "display error")?;
-//! // The ball's middle is plain red; its rim is blended with the black around it.
-//! assert_eq!(display.get_pixel(Point::new(4, 3)), Some(Rgb888::new(255, 0, 0)));
+//! // The ball's middle is plain red (its ambient saturates); its rim is blended with the
+//! // black around it, where a plain render has only full red and black.
+//! assert_eq!(display.get_pixel(Point::new(8, 6)), Some(Rgb888::new(255, 0, 0)));
+//! let reds = all.points().filter_map(|p| display.get_pixel(p)).map(|c| c.r());
+//! assert!(reds.filter(|&r| r > 0 && r < 255).count() > 4);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 

@@ -208,3 +208,162 @@ pub fn antialiased<S: crate::Scalar, const OBJECTS: usize>(
     })?;
     Ok(image)
 }
+
+/// Rows a thread renders at a time: few enough that rows of different cost even out
+/// between threads, many enough that the adaptive anti-aliasing's extra rows (the one above
+/// and the one below each band) stay a small share.
+const BAND_ROWS: usize = 8;
+
+/// The whole image rendered by `threads` threads (at least 1), each taking the next band of
+/// rows from a shared queue until none is left: the same pixels as one thread, since every
+/// row depends on the scene alone (an area of the image renders the image's pixels there).
+/// `aa` anti-aliases (see [`crate::render::Antialias`]); `on_row` runs after each row, on
+/// the thread that drew it.
+///
+/// The library's row API is all it needs: a firmware author with two cores (an RP2040)
+/// splits rows the same way, each core rendering its own areas into the panel.
+pub fn render_parallel<S: crate::Scalar, const OBJECTS: usize>(
+    renderer: &crate::render::Renderer<'_, S, OBJECTS>,
+    threads: usize,
+    aa: Option<crate::render::Antialias>,
+    on_row: impl Fn(crate::render::RowDone) + Sync,
+) -> Result<Framebuffer, crate::render::RenderError<Infallible>> {
+    use crate::render::{AaPixel, Antialias};
+    use core::ops::ControlFlow;
+    use embedded_graphics::primitives::Rectangle;
+    let size = renderer.size();
+    let mut image = Framebuffer::new(size);
+    let width = size.width as usize;
+    let band_bytes = BAND_ROWS * width * 3;
+    if band_bytes == 0 {
+        return Ok(image);
+    }
+    let bands: Vec<(usize, &mut [u8])> = image
+        .rgb
+        .chunks_mut(band_bytes)
+        .enumerate()
+        .map(|(i, pixels)| (i * BAND_ROWS, pixels))
+        .collect();
+    let threads = threads.clamp(1, bands.len().max(1));
+    let queue = std::sync::Mutex::new(bands.into_iter());
+    let next_band = || queue.lock().ok().and_then(|mut bands| bands.next());
+    let work = || -> Result<(), crate::render::RenderError<Infallible>> {
+        let mut row = vec![Rgb888::BLACK; width];
+        let mut aa_buffer = match aa {
+            Some(_) => vec![AaPixel::NEW; Antialias::buffer_len(size.width as u16)],
+            None => Vec::new(),
+        };
+        while let Some((top, pixels)) = next_band() {
+            let rows = pixels.len() / (3 * width);
+            let mut band = Band {
+                size,
+                top,
+                rows,
+                pixels,
+            };
+            let area = Rectangle::new(
+                Point::new(0, top as i32),
+                Size::new(size.width, rows as u32),
+            );
+            let report = |done| {
+                on_row(done);
+                ControlFlow::Continue(())
+            };
+            match aa {
+                Some(aa) => {
+                    renderer.render_antialiased(&mut band, area, aa, &mut aa_buffer, report)
+                }
+                None => renderer.render_area(&mut band, area, &mut row, report),
+            }?;
+        }
+        Ok(())
+    };
+    std::thread::scope(|scope| {
+        let workers: Vec<_> = (1..threads).map(|_| scope.spawn(work)).collect();
+        // This thread works too.
+        let mut result = work();
+        for worker in workers {
+            match worker.join() {
+                Ok(done) => result = result.and(done),
+                Err(panic) => std::panic::resume_unwind(panic),
+            }
+        }
+        result
+    })?;
+    Ok(image)
+}
+
+/// A band of rows of a [`Framebuffer`], drawn into in the image's coordinates (pixels
+/// outside it are dropped).
+struct Band<'a> {
+    size: Size,
+    top: usize,
+    rows: usize,
+    pixels: &'a mut [u8],
+}
+
+impl Band<'_> {
+    /// The bytes of pixel `(x, y)` of the image, if it lies in the band.
+    fn at(&mut self, x: i32, y: i32) -> Option<&mut [u8]> {
+        let (x, y) = (usize::try_from(x).ok()?, usize::try_from(y).ok()?);
+        let width = self.size.width as usize;
+        if x >= width || y < self.top || y >= self.top + self.rows {
+            return None;
+        }
+        let at = ((y - self.top) * width + x) * 3;
+        self.pixels.get_mut(at..at + 3)
+    }
+}
+
+impl OriginDimensions for Band<'_> {
+    fn size(&self) -> Size {
+        self.size
+    }
+}
+
+impl DrawTarget for Band<'_> {
+    type Color = Rgb888;
+    type Error = Infallible;
+
+    fn draw_iter<I: IntoIterator<Item = Pixel<Rgb888>>>(
+        &mut self,
+        pixels: I,
+    ) -> Result<(), Infallible> {
+        for Pixel(p, c) in pixels {
+            if let Some(slot) = self.at(p.x, p.y) {
+                slot.copy_from_slice(&[c.r(), c.g(), c.b()]);
+            }
+        }
+        Ok(())
+    }
+
+    fn fill_contiguous<I: IntoIterator<Item = Rgb888>>(
+        &mut self,
+        area: &embedded_graphics::primitives::Rectangle,
+        colors: I,
+    ) -> Result<(), Infallible> {
+        // The renderer's rows: one slice, no per-pixel look-up.
+        let start = area.top_left;
+        let inside = area.size.height == 1
+            && start.x >= 0
+            && (start.x as u32).saturating_add(area.size.width) <= self.size.width;
+        match self.at(start.x, start.y) {
+            Some(_) if inside => {
+                let width = self.size.width as usize;
+                let at = ((start.y as usize - self.top) * width + start.x as usize) * 3;
+                let end = at + area.size.width as usize * 3;
+                if let Some(run) = self.pixels.get_mut(at..end) {
+                    for (slot, c) in run.chunks_exact_mut(3).zip(colors) {
+                        slot.copy_from_slice(&[c.r(), c.g(), c.b()]);
+                    }
+                }
+                Ok(())
+            }
+            _ => self.draw_iter(
+                embedded_graphics::prelude::PointsIter::points(area)
+                    .zip(colors)
+                    .map(|(p, c)| Pixel(p, c)),
+            ),
+        }
+    }
+}

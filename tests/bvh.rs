@@ -11,7 +11,7 @@ use microray::object::{
 use microray::scalar::I16F16;
 use microray::{CameraDef, MaterialDef, Ray, Scalar, Scene, Vec3};
 use proptest::prelude::*;
-use std::cell::Cell;
+use std::sync::atomic::{AtomicU16, Ordering};
 
 const CAMERA: CameraDef<'static> = CameraDef::new("c", [8, 6], [8.0, 6.0], [4.0, 3.0, 6.0]);
 const MATERIALS: [MaterialDef<'static>; 1] = [MaterialDef::new("m")];
@@ -105,13 +105,14 @@ fn check<S: Scalar>(shapes: &[Shape], rays: &[([f64; 3], [f64; 3])]) -> Result<(
                 // The shadow cache changes no answer, whatever it remembers: nothing, the
                 // object hit (a blocker), the one skipped, or another.
                 for remembered in [u16::MAX, index as u16, skip as u16, 0] {
-                    let last = Cell::new(remembered);
+                    let last = AtomicU16::new(remembered);
                     let tree = Among::Tree(tree);
                     let c = any_hit_remembering(objects, &tree, &ray, skip, limit, z, Some(&last));
                     prop_assert_eq!(c, a, "{}: shadow test remembering {}", S::NAME, remembered);
                     // What it remembers now blocks this ray, or nothing blocked it.
-                    if last.get() != remembered {
-                        prop_assert_eq!(last.get() != u16::MAX, a);
+                    let now = last.load(Ordering::Relaxed);
+                    if now != remembered {
+                        prop_assert_eq!(now != u16::MAX, a);
                     }
                 }
             }

@@ -307,3 +307,31 @@ fn render_antialiased_matches_the_library_and_rejects_bad_counts() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn render_with_threads_writes_the_one_thread_image() {
+    let dir = std::env::temp_dir().join(format!("microray-cli-threads-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/vases.txt");
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec!["render", scene.to_str().unwrap(), "-q", "-o"];
+        args.push(out.to_str().unwrap());
+        args.extend_from_slice(extra);
+        microray(&args)
+    };
+    for (name, extra) in [
+        ("one.ppm", vec!["--threads", "1"]),
+        ("three.ppm", vec!["--threads", "3"]),
+        ("all.ppm", vec![]),
+    ] {
+        let run = render(name, &extra);
+        assert!(run.status.success(), "{}", text(&run.stderr));
+    }
+    let one = std::fs::read(dir.join("one.ppm")).unwrap();
+    assert!(one == std::fs::read(dir.join("three.ppm")).unwrap());
+    assert!(one == std::fs::read(dir.join("all.ppm")).unwrap());
+    let zero = render("zero.ppm", &["--threads", "0"]);
+    assert_eq!(zero.status.code(), Some(2));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -8,9 +8,9 @@ use microray::parse::parse_scene;
 use microray::print::print_scene;
 use microray::render::{Antialias, Pattern, Renderer, Samples, Shading};
 use microray::scalar::I16F16;
-use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 #[derive(Parser)]
@@ -96,6 +96,10 @@ enum Command {
         /// or a regular one.
         #[arg(long, value_enum, default_value_t = AaPattern::Rotated)]
         aa_pattern: AaPattern,
+        /// Threads to render with (each takes bands of rows; the image is the same for
+        /// any number); all cores by default, 1 for one thread.
+        #[arg(long, value_parser = clap::value_parser!(u16).range(1..))]
+        threads: Option<u16>,
     },
 }
 
@@ -186,6 +190,7 @@ fn main() -> ExitCode {
             aa,
             aa_threshold,
             aa_pattern,
+            threads,
         } => {
             let pattern = match aa_pattern {
                 AaPattern::Rotated => Pattern::Rotated,
@@ -206,6 +211,10 @@ fn main() -> ExitCode {
                     (None, Depth::Rgb565) => Output::Rgb565,
                     (None, Depth::Rgb888) => Output::Rgb888,
                 },
+                threads: threads.map_or_else(
+                    || std::thread::available_parallelism().map_or(1, |n| n.get()),
+                    usize::from,
+                ),
                 aa: match (aa.adaptive, aa.count) {
                     (false, 1) => None,
                     (false, _) => Some(Antialias::Grid(samples)),
@@ -359,6 +368,7 @@ struct Options {
     progressive: bool,
     depth: Output,
     aa: Option<Antialias>,
+    threads: usize,
 }
 
 /// The colour depth of the written picture.
@@ -420,15 +430,11 @@ fn render<S: Scalar>(path: &Path, output: &Path, options: &Options) -> Result<()
     let size = renderer.size();
     let mut image = Framebuffer::new(size);
     let mut row = vec![Default::default(); size.width as usize];
-    let area = embedded_graphics::primitives::Rectangle::new(Default::default(), size);
     let start = Instant::now();
-    if let Some(aa) = options.aa {
-        if options.progressive {
+    if options.progressive {
+        if options.aa.is_some() {
             return Err("error: --aa and --progressive cannot be combined (the progressive order traces one ray a pixel)".into());
         }
-        image = microray::host::antialiased(&renderer, aa)
-            .map_err(|e| format!("{}: error: {e}", path.display()))?;
-    } else if options.progressive {
         for (pass, block) in microray::render::BLOCKS.iter().enumerate() {
             renderer
                 .render_pass(&mut image, &mut row, pass)
@@ -443,27 +449,35 @@ fn render<S: Scalar>(path: &Path, output: &Path, options: &Options) -> Result<()
             }
         }
     } else {
-        let mut bar: Option<ProgressBar> = None;
-        let result = renderer.render_area(&mut image, area, &mut row, |done| {
-            // Only renders that take more than a moment get a bar.
-            if !quiet && bar.is_none() && start.elapsed() > Duration::from_millis(300) {
-                let b = ProgressBar::with_draw_target(
-                    Some(u64::from(done.total)),
-                    ProgressDrawTarget::stderr(),
-                );
-                let style = ProgressStyle::with_template("{bar:40} {pos}/{len} rows, {eta} left");
-                b.set_style(style.unwrap_or_else(|_| ProgressStyle::default_bar()));
-                bar = Some(b);
+        // Only renders that take more than a moment get a bar.
+        let bar: std::sync::OnceLock<ProgressBar> = std::sync::OnceLock::new();
+        let rows = AtomicU64::new(0);
+        let total = u64::from(size.height);
+        let progress = |_| {
+            let done = rows.fetch_add(1, Ordering::Relaxed) + 1;
+            if quiet {
+                return;
             }
-            if let Some(b) = &bar {
-                b.set_position(u64::from(done.done));
+            if bar.get().is_none() && start.elapsed() > Duration::from_millis(300) {
+                let _ = bar.get_or_init(|| {
+                    let b =
+                        ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
+                    let style =
+                        ProgressStyle::with_template("{bar:40} {pos}/{len} rows, {eta} left");
+                    b.set_style(style.unwrap_or_else(|_| ProgressStyle::default_bar()));
+                    b
+                });
             }
-            ControlFlow::Continue(())
-        });
-        if let Some(b) = bar {
+            if let Some(b) = bar.get() {
+                b.set_position(done);
+            }
+        };
+        let rendered =
+            microray::host::render_parallel(&renderer, options.threads, options.aa, progress);
+        if let Some(b) = bar.get() {
             b.finish_and_clear();
         }
-        result.map_err(|e| format!("{}: error: {e}", path.display()))?;
+        image = rendered.map_err(|e| format!("{}: error: {e}", path.display()))?;
     }
     to_depth(&mut image, options.depth);
     write_image(&image, format, output)?;
@@ -476,8 +490,13 @@ fn render<S: Scalar>(path: &Path, output: &Path, options: &Options) -> Result<()
             None if options.progressive => "progressive, ".into(),
             None => String::new(),
         };
+        let threads = if options.progressive || options.threads == 1 {
+            String::new()
+        } else {
+            format!(", {} threads", options.threads)
+        };
         eprintln!(
-            "{}: {}x{} in {:.2} s ({order}{}) -> {}",
+            "{}: {}x{} in {:.2} s ({order}{}{threads}) -> {}",
             path.display(),
             size.width,
             size.height,

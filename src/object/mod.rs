@@ -706,12 +706,12 @@ pub fn any_hit_remembering<S: Scalar>(
     skip: usize,
     limit: S,
     z_limit: S,
-    last: Option<&core::cell::Cell<u16>>,
+    last: Option<&core::sync::atomic::AtomicU16>,
 ) -> bool {
     let (true, Among::Tree(tree), Some(last)) = (cfg!(feature = "plan"), among, last) else {
         return any_hit_among(objects, among, ray, skip, limit, z_limit);
     };
-    let remembered = last.get();
+    let remembered = last.load(core::sync::atomic::Ordering::Relaxed);
     if remembered != NONE_REMEMBERED
         && blocks(objects, usize::from(remembered), ray, skip, limit, z_limit)
     {
@@ -723,9 +723,10 @@ pub fn any_hit_remembering<S: Scalar>(
         }
     }
     let blocker = first_blocker_in_tree(objects, tree, ray, skip, limit, z_limit);
-    last.set(blocker.map_or(NONE_REMEMBERED, |i| {
+    let blocker_index = blocker.map_or(NONE_REMEMBERED, |i| {
         u16::try_from(i).unwrap_or(NONE_REMEMBERED)
-    }));
+    });
+    last.store(blocker_index, core::sync::atomic::Ordering::Relaxed);
     blocker.is_some()
 }
 

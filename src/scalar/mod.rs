@@ -46,6 +46,8 @@ pub enum PixelSteps {
 /// negative number and out-of-range conversions all give a defined value.
 pub trait Scalar:
     Copy
+    + Send
+    + Sync
     + fmt::Debug
     + PartialEq
     + PartialOrd

@@ -29,7 +29,7 @@ use crate::plan::Stages;
 use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;
-use core::cell::Cell;
+use core::sync::atomic::AtomicU16;
 
 mod row;
 pub use row::{ROW_LEVELS, ROW_LIGHTS, RowShading};
@@ -48,17 +48,18 @@ pub const CACHED_LIGHTS: usize = 8;
 /// The object that blocked each light's last shadow ray through a tree, which the next one
 /// tests first (the classic shadow cache: neighbouring pixels in a shadow are mostly in the
 /// same object's). Exact: a hit by any object answers an any-hit test, and a tree walk
-/// reaches every object a ray can hit. One per render (it is not `Sync`: a thread
-/// rendering rows keeps its own).
-#[derive(Clone, Debug)]
+/// reaches every object a ray can hit. One per render; a thread rendering rows keeps its
+/// own. Relaxed atomics rather than `Cell`s, so that a renderer can be shared between
+/// threads: on the microcontrollers they compile to the same loads and stores.
+#[derive(Debug)]
 pub struct ShadowCache {
-    last: [Cell<u16>; CACHED_LIGHTS],
+    last: [AtomicU16; CACHED_LIGHTS],
 }
 
 impl Default for ShadowCache {
     fn default() -> Self {
         Self {
-            last: core::array::from_fn(|_| Cell::new(crate::object::NONE_REMEMBERED)),
+            last: core::array::from_fn(|_| AtomicU16::new(crate::object::NONE_REMEMBERED)),
         }
     }
 }
@@ -111,7 +112,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
     }
 
     /// The shadow cache's slot of `light` (one of the shader's lights), if there is one.
-    fn remembered(&self, light: &Light<S>) -> Option<&Cell<u16>> {
+    fn remembered(&self, light: &Light<S>) -> Option<&AtomicU16> {
         // Its index from its address: the light loops pass references into `lights`, and
         // threading an index through them costs every scene registers (measured).
         let offset =

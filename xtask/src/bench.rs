@@ -168,11 +168,80 @@ pub fn run(args: &[String]) -> Result<(), String> {
         all.as_ref().map(|m| m.rows.as_slice()),
     );
     aa_report(&mut report, &times, &quality, &aa.rows);
+    process_report(&mut report, &root, &scenes, if quick { 5 } else { 21 })?;
     println!("{report}");
     std::fs::create_dir_all(root.join("docs")).map_err(|e| e.to_string())?;
     std::fs::write(root.join("docs/benchmarks.md"), &report).map_err(|e| e.to_string())?;
     plot(&root.join("docs/benchmarks.svg"), &scenes, &times, &errors)?;
     eprintln!("wrote docs/benchmarks.md and docs/benchmarks.svg");
+    Ok(())
+}
+
+/// The scenes of the std tracer's issue: whole-process times, one thread and all cores.
+const PROCESS_SCENES: [&str; 6] = [
+    "fplane3",
+    "spec0",
+    "spec3",
+    "shiny3",
+    "tplane4",
+    "translucent3",
+];
+
+/// Whole-process wall-clock medians of `microray render SCENE -o OUT.ppm` (f64), with one
+/// thread and with every core, `runs` runs each, alternating.
+fn process_report(
+    out: &mut String,
+    root: &Path,
+    scenes: &BTreeMap<String, PathBuf>,
+    runs: usize,
+) -> Result<(), String> {
+    qemu::cargo(&["build", "--release", "--bin", "microray"], root, &[])?;
+    let binary = root.join("target/release/microray");
+    let output = std::env::temp_dir().join(format!("microray-bench-{}.ppm", std::process::id()));
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let _ = writeln!(
+        out,
+        "\n## Host: the whole process\n\n\
+         `microray render SCENE -o OUT.ppm` in f64, wall-clock medians of {runs} runs each \
+         (process start, parsing, rendering and writing the PPM), with `--threads 1` and with \
+         all {cores} cores (the default).\n\n\
+         | scene | one thread (s) | all cores (s) | speed-up |\n|---|---|---|---|"
+    );
+    for name in PROCESS_SCENES {
+        let Some(path) = scenes.get(name) else {
+            continue;
+        };
+        let mut one = Vec::new();
+        let mut all = Vec::new();
+        for _ in 0..runs {
+            for (threads, times) in [("1", &mut one), (&*cores.to_string(), &mut all)] {
+                let started = std::time::Instant::now();
+                let status = Command::new(&binary)
+                    .arg("render")
+                    .arg(path)
+                    .arg("-o")
+                    .arg(&output)
+                    .args(["-q", "--threads", threads])
+                    .status()
+                    .map_err(|e| e.to_string())?;
+                if !status.success() {
+                    return Err(format!("microray render {} failed", path.display()));
+                }
+                times.push(started.elapsed().as_secs_f64());
+            }
+        }
+        let median = |v: &mut Vec<f64>| {
+            v.sort_by(f64::total_cmp);
+            v.get(v.len() / 2).copied().unwrap_or(0.0)
+        };
+        let (a, b) = (median(&mut one), median(&mut all));
+        let _ = writeln!(
+            out,
+            "| {name} | {a:.4} | {b:.4} | {:.2}x |",
+            a / b.max(1e-9)
+        );
+    }
+    let _ = std::fs::remove_file(&output);
     Ok(())
 }
 

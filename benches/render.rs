@@ -8,10 +8,13 @@
 //! and collects the medians.
 
 use criterion::{Criterion, criterion_group, criterion_main};
+
+#[path = "../firmware/src/aa_modes.rs"]
+mod aa_modes;
 use microray::Scalar;
 use microray::host::{Framebuffer, HostRenderer, HostScene, texture_files};
 use microray::parse::parse_scene;
-use microray::render::{AaPixel, Antialias, Renderer, Samples, render};
+use microray::render::{AaPixel, Antialias, Renderer, render};
 use microray::scalar::I16F16;
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
@@ -85,8 +88,8 @@ fn is_course_scene(path: &Path) -> bool {
     std::env::var_os("MICRORAY_CONFORMANCE").is_some_and(|dir| path.starts_with(root.join(dir)))
 }
 
-/// `SCENE/aa/MODE`: the scene anti-aliased with 4, 9 and 16 samples a pixel and adaptively
-/// (16 samples on edges, threshold 8), at 320x240 in f64.
+/// `SCENE/aa/MODE`: the scene anti-aliased as the firmware's anti-aliased frames are (4, 9
+/// and 16 samples a pixel, and adaptively), at 320x240 in f64.
 fn bench_antialiasing<S: Scalar>(
     c: &mut Criterion,
     name: &str,
@@ -96,19 +99,9 @@ fn bench_antialiasing<S: Scalar>(
     let renderer: HostRenderer<'_, S> = Renderer::new(scene);
     let all = embedded_graphics::primitives::Rectangle::new(Default::default(), renderer.size());
     let mut buffer = vec![AaPixel::NEW; Antialias::buffer_len(320)];
-    let samples = |n| Samples::rotated(n).expect("a square");
-    for (mode, aa) in [
-        ("4", Antialias::Grid(samples(4))),
-        ("9", Antialias::Grid(samples(9))),
-        ("16", Antialias::Grid(samples(16))),
-        (
-            "adaptive",
-            Antialias::Adaptive {
-                samples: samples(16),
-                threshold: 8,
-            },
-        ),
-    ] {
+    // The firmware's modes (`cargo xtask qemu --antialias`), named by their suffix.
+    for (suffix, aa) in aa_modes::MODES {
+        let mode = suffix.trim_start_matches("+aa").trim_start_matches('+');
         c.bench_function(&format!("{name}/aa/{mode}"), |b| {
             b.iter(|| {
                 renderer

@@ -75,6 +75,18 @@ impl Framebuffer {
     }
 }
 
+impl Framebuffer {
+    /// The whole image as one band (the band's drawing serves both).
+    fn band(&mut self) -> Band<'_> {
+        Band {
+            size: Size::new(self.width, self.height),
+            top: 0,
+            rows: self.height as usize,
+            pixels: &mut self.rgb,
+        }
+    }
+}
+
 impl OriginDimensions for Framebuffer {
     fn size(&self) -> Size {
         Size::new(self.width, self.height)
@@ -89,18 +101,15 @@ impl DrawTarget for Framebuffer {
         &mut self,
         pixels: I,
     ) -> Result<(), Infallible> {
-        for Pixel(point, color) in pixels {
-            let (Ok(x), Ok(y)) = (u32::try_from(point.x), u32::try_from(point.y)) else {
-                continue;
-            };
-            if x < self.width && y < self.height {
-                let at = (y as usize * self.width as usize + x as usize) * 3;
-                if let Some(slot) = self.rgb.get_mut(at..at + 3) {
-                    slot.copy_from_slice(&[color.r(), color.g(), color.b()]);
-                }
-            }
-        }
-        Ok(())
+        self.band().draw_iter(pixels)
+    }
+
+    fn fill_contiguous<I: IntoIterator<Item = Rgb888>>(
+        &mut self,
+        area: &embedded_graphics::primitives::Rectangle,
+        colors: I,
+    ) -> Result<(), Infallible> {
+        self.band().fill_contiguous(area, colors)
     }
 }
 

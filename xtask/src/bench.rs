@@ -245,22 +245,16 @@ fn process_report(
     Ok(())
 }
 
-/// The anti-aliasing modes of the host table, by benchmark name (`1`: the plain render).
-fn aa_modes() -> [(&'static str, Antialias); 5] {
-    let samples = |n| Samples::rotated(n).unwrap_or(Samples::ONE);
-    [
-        ("1", Antialias::Grid(Samples::ONE)),
-        ("4", Antialias::Grid(samples(4))),
-        ("9", Antialias::Grid(samples(9))),
-        ("16", Antialias::Grid(samples(16))),
-        (
-            "adaptive",
-            Antialias::Adaptive {
-                samples: samples(16),
-                threshold: 8,
-            },
-        ),
-    ]
+/// The anti-aliasing modes of the host table, by benchmark name (`1`: the plain render; the
+/// others the firmware's, as `benches/render.rs` names them).
+fn aa_modes() -> Vec<(&'static str, Antialias)> {
+    let mut modes = vec![("1", Antialias::Grid(Samples::ONE))];
+    modes.extend(
+        qemu::AA_MODES
+            .iter()
+            .map(|&(suffix, aa)| (suffix.trim_start_matches("+aa").trim_start_matches('+'), aa)),
+    );
+    modes
 }
 
 /// PSNR (dB) of each mode of [`aa_modes`] against 64 samples a pixel, f64 at 320x240.

@@ -21,7 +21,7 @@ mod static_scene;
 mod aa_modes;
 #[path = "../../firmware/src/basic_scene.rs"]
 mod basic_scene;
-use aa_modes::MODES as AA_MODES;
+pub(crate) use aa_modes::MODES as AA_MODES;
 
 /// Options of `cargo xtask qemu`.
 #[derive(Default)]

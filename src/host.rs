@@ -56,9 +56,21 @@ impl Framebuffer {
 
     /// Binary PPM: `P6\n{w} {h} 255\n` and the pixels.
     pub fn to_ppm(&self) -> Vec<u8> {
-        let mut out = format!("P6\n{} {} 255\n", self.width, self.height).into_bytes();
+        let mut out = self.ppm_header().into_bytes();
         out.extend_from_slice(&self.rgb);
         out
+    }
+
+    /// [`to_ppm`](Self::to_ppm) written to `out` without a copy of the pixels (the header,
+    /// then the framebuffer itself: its bytes are the PPM's).
+    pub fn write_ppm(&self, mut out: impl std::io::Write) -> std::io::Result<()> {
+        out.write_all(self.ppm_header().as_bytes())?;
+        out.write_all(&self.rgb)?;
+        out.flush()
+    }
+
+    fn ppm_header(&self) -> String {
+        format!("P6\n{} {} 255\n", self.width, self.height)
     }
 
     /// PNG, 8-bit RGB.

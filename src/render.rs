@@ -418,11 +418,7 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
                 match self.row_shading(&shader, &tests, &rays) {
                     // A plane at the same `t` for every ray of the row.
                     Some(shading) => shade_row(&shader, &shading, &tests, rays, row),
-                    None => {
-                        for (slot, ray) in row.iter_mut().zip(rays) {
-                            *slot = self.color_in_row(&shader, ray, &tests).into();
-                        }
-                    }
+                    None => self.fill_planned_row(&shader, &tests, rays, row),
                 }
             } else {
                 for (slot, ray) in row.iter_mut().zip(rays) {
@@ -476,16 +472,57 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         match work {
             // A plane at the same `t` for every ray of the row.
             RowWork::Planned(tests, Some(shading)) => shade_row(shader, shading, tests, rays, row),
-            RowWork::Planned(tests, None) => {
-                for (slot, ray) in row.iter_mut().zip(rays) {
-                    *slot = self.color_in_row(shader, ray, tests).into();
-                }
-            }
+            RowWork::Planned(tests, None) => self.fill_planned_row(shader, tests, rays, row),
             RowWork::All => {
                 for (slot, ray) in row.iter_mut().zip(rays) {
                     *slot = self.color(shader, ray, Among::All).into();
                 }
             }
+        }
+    }
+}
+
+impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
+    /// Shades the rays `rays` of a row whose objects' tests are prepared (`tests`) into
+    /// `row`: ray by ray, or (feature `batch`) [`BATCH`](crate::shade::BATCH) at a time.
+    #[inline]
+    fn fill_planned_row<C: From<Rgb888>>(
+        &self,
+        shader: &Shader<'_, S>,
+        tests: &[RowEntry<S>],
+        rays: RowRays<S>,
+        row: &mut [C],
+    ) {
+        #[cfg(feature = "batch")]
+        if self.shading == Shading::Color {
+            return shade_batches(shader, tests, rays, row);
+        }
+        for (slot, ray) in row.iter_mut().zip(rays) {
+            *slot = self.color_in_row(shader, ray, tests).into();
+        }
+    }
+}
+
+/// The pixels of a row whose objects' tests are prepared, [`BATCH`](crate::shade::BATCH)
+/// at a time (see [`Shader::primary_batch_in_row`]).
+#[cfg(feature = "batch")]
+#[inline(never)]
+fn shade_batches<S: Scalar, C: From<Rgb888>>(
+    shader: &Shader<'_, S>,
+    tests: &[RowEntry<S>],
+    mut rays: RowRays<S>,
+    row: &mut [C],
+) {
+    use crate::shade::BATCH;
+    for slots in row.chunks_mut(BATCH) {
+        let mut batch = [None; BATCH];
+        for (ray, next) in batch.iter_mut().take(slots.len()).zip(&mut rays) {
+            *ray = next;
+        }
+        let mut colors = [Vec3::ZERO; BATCH];
+        shader.primary_batch_in_row(&batch, tests, &mut colors);
+        for (slot, c) in slots.iter_mut().zip(colors) {
+            *slot = bytes(c).into();
         }
     }
 }

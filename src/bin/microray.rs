@@ -510,12 +510,17 @@ fn render<S: Scalar>(path: &Path, output: &Path, options: &Options) -> Result<()
 
 /// Writes an image in `format` to `output`.
 fn write_image(image: &Framebuffer, format: Format, output: &Path) -> Result<(), String> {
-    let bytes = match format {
-        Format::Ppm => image.to_ppm(),
-        Format::Png => image
-            .to_png()
-            .map_err(|e| format!("{}: error: PNG encoding failed: {e}", output.display()))?,
-    };
-    std::fs::write(output, bytes)
-        .map_err(|e| format!("{}: error: cannot write: {e}", output.display()))
+    let cannot_write =
+        |e: std::io::Error| format!("{}: error: cannot write: {e}", output.display());
+    match format {
+        // Straight from the framebuffer: no copy of the image first.
+        Format::Ppm => image.write_ppm(std::fs::File::create(output).map_err(cannot_write)?),
+        Format::Png => {
+            let bytes = image
+                .to_png()
+                .map_err(|e| format!("{}: error: PNG encoding failed: {e}", output.display()))?;
+            std::fs::write(output, bytes)
+        }
+    }
+    .map_err(cannot_write)
 }

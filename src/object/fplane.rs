@@ -117,6 +117,18 @@ impl<S: Scalar> Rect<S> {
         (qx >= S::ZERO && qx <= w && qy >= S::ZERO && qy <= h).then_some(t)
     }
 
+    /// [`nearest`](Self::nearest) with the plane's `N.point - N.base` given (see
+    /// [`Plane::nearest_from`]). (Written out, not shared with `nearest`: the shadow
+    /// rays' `hits` is inlined better so.)
+    #[cfg(feature = "plan")]
+    #[inline]
+    pub fn nearest_from(&self, distance: S, ray: &Ray<S>, limit: S) -> Option<S> {
+        let t = self.plane.nearest_from(distance, ray.dir, limit)?;
+        let [qx, qy] = self.local(ray.at(t));
+        let [w, h] = self.dimensions;
+        (qx >= S::ZERO && qx <= w && qy >= S::ZERO && qy <= h).then_some(t)
+    }
+
     /// The nearest hit as a hit record.
     pub fn intersect(&self, ray: &Ray<S>) -> Option<Hit<S>> {
         self.nearest(ray, S::UNBOUNDED).map(|t| Hit {
@@ -139,7 +151,7 @@ impl<S: Scalar> Rect<S> {
         kind: Entity::FPlane,
         hits: fplane_hits,
         normal: plane_normal,
-        row_test: super::object_row_test,
+        row_test: super::plane::rect_row_test,
         #[cfg(feature = "print")]
         printer: fplane_print,
         material: object_material,

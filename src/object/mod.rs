@@ -110,6 +110,12 @@ pub enum RowTest<S> {
     /// Every ray of the row meets the object at this `t`, within the z rule (a plane
     /// parallel to the x axis: `N . dir` is the same along the row).
     At(S),
+    /// Each ray is tested against the object's plane with `N.point - N.eye`, the part of
+    /// the test that depends only on where the rays start, worked out once: this value
+    /// (see [`Plane::distance_from`](plane::Plane::distance_from)). The plane kinds
+    /// whose `hits` is their plane's (and a finite plane's bounds check after it).
+    #[cfg(feature = "plan")]
+    Plane(S),
     /// Each ray is tested with the kind's `hits`.
     Hits,
 }
@@ -278,6 +284,20 @@ impl<S: Scalar> Object<S> {
             Shape::Plane(plane) => plane.unit_normal.x == S::ZERO,
             Shape::TiledPlane(tiled) => tiled.rect.plane.unit_normal.x == S::ZERO,
             _ => false,
+        }
+    }
+    /// `hits` for a ray whose base is `distance` from the object's plane (a prepared
+    /// [`RowTest::Plane`]): the same answer as `hits`, bit for bit, without the part of
+    /// the plane test that depends on the base.
+    #[cfg(feature = "plan")]
+    #[inline]
+    pub fn hits_from_distance(&self, ray: &Ray<S>, distance: S, limit: S) -> Option<S> {
+        match &self.shape {
+            Shape::Plane(plane) => plane.nearest_from(distance, ray.dir, limit),
+            Shape::TiledPlane(tiled) => tiled.rect.plane.nearest_from(distance, ray.dir, limit),
+            Shape::FPlane(rect) => rect.nearest_from(distance, ray, limit),
+            Shape::TexPlane(textured) => textured.rect.nearest_from(distance, ray, limit),
+            _ => self.hits(ray, limit),
         }
     }
     /// Whether the surface look-up gives the same material, reflectivities and normal at
@@ -552,24 +572,29 @@ pub fn closest_hit_in_row<S: Scalar>(
     let mut limit = S::UNBOUNDED;
     for entry in row {
         let index = usize::from(entry.index);
-        match &entry.test {
-            RowTest::Miss => {}
+        let found = match &entry.test {
+            RowTest::Miss => None,
             RowTest::At(t) => {
                 if *t < limit {
                     best = Some((index, *t));
                     limit = *t;
                 }
+                None
             }
-            RowTest::Hits => {
-                let Some(object) = objects.get(index) else {
-                    continue;
-                };
-                if let Some(t) = object.hits(ray, limit) {
-                    if ray.base.z + ray.dir.z * t <= z_limit {
-                        best = Some((index, t));
-                        limit = t;
-                    }
-                }
+            // Only `f64` rows have these (see `Plane::row_test`): the other types' code has
+            // no use for them (flash on the Cortex-M0).
+            #[cfg(feature = "plan")]
+            RowTest::Plane(distance) if S::COURSE_ORDER => objects
+                .get(index)
+                .and_then(|object| object.hits_from_distance(ray, *distance, limit)),
+            _ => objects
+                .get(index)
+                .and_then(|object| object.hits(ray, limit)),
+        };
+        if let Some(t) = found {
+            if ray.base.z + ray.dir.z * t <= z_limit {
+                best = Some((index, t));
+                limit = t;
             }
         }
     }
@@ -603,6 +628,8 @@ pub fn row_plane<S: Scalar>(row: &[RowEntry<S>]) -> Option<(usize, S, bool)> {
                     limit = t;
                 }
             }
+            #[cfg(feature = "plan")]
+            RowTest::Plane(_) => tested = true,
             RowTest::Hits => tested = true,
         }
     }

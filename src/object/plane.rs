@@ -85,6 +85,39 @@ impl<S: Scalar> Plane<S> {
         }
     }
 
+    /// `N.point - N.base`: the part of [`nearest_by_axis`](Self::nearest_by_axis) that
+    /// rays from one point share (a row's primary rays, from the eye), computed as it does
+    /// (see [`nearest_from`](Self::nearest_from)).
+    #[cfg(feature = "plan")]
+    #[inline]
+    pub fn distance_from(&self, base: Vec3<S>) -> S {
+        match self.axis.filter(|_| S::AXIS_READS) {
+            Some(axis) => {
+                let base = component(base, axis / 2);
+                let base = if axis % 2 == 1 { -base } else { base };
+                self.n_dot_point - base
+            }
+            None => self.n_dot_point - S::dot_unit(base, self.unit_normal),
+        }
+    }
+
+    /// [`nearest_by_axis`](Self::nearest_by_axis) for a ray along `dir` from a base
+    /// `distance` ([`distance_from`](Self::distance_from)) away: the same operations in
+    /// the same order, so the same `t`, bit for bit (tests/plan.rs renders every scene
+    /// both ways).
+    #[cfg(feature = "plan")]
+    #[inline]
+    pub fn nearest_from(&self, distance: S, dir: Vec3<S>, limit: S) -> Option<S> {
+        let n_dot_dir = match self.axis.filter(|_| S::AXIS_READS) {
+            Some(axis) => {
+                let dir = component(dir, axis / 2);
+                if axis % 2 == 1 { -dir } else { dir }
+            }
+            None => S::dot_unit(dir, self.unit_normal),
+        };
+        S::parameter_within(distance, n_dot_dir, limit)
+    }
+
     /// [`nearest`](Self::nearest) for a unit normal of `+1` (`-1` when `negative`) along
     /// `axis` (0 for x, 1 for y, 2 for z): the dot products read off one coordinate.
     #[inline]
@@ -100,11 +133,21 @@ impl<S: Scalar> Plane<S> {
 
     /// The test of a row's primary rays: when the normal has no x part, `N . dir` is the
     /// same for every ray of the row (bit for bit: `0 * dir.x` adds nothing), so is `t`,
-    /// and so is the hit point's `z`. (Not in `f64`, whose primary rays are normalised:
-    /// their `y` and `z` change along the row.)
+    /// and so is the hit point's `z`. Not in `f64`, whose primary rays are normalised
+    /// (their `y` and `z` change along the row): each ray is tested there, with the part
+    /// the rays share, `N.point - N.eye`, worked out once (with the plan; the other types
+    /// leave that out for the Cortex-M0's flash).
     pub fn row_test(&self, origin: &RowOrigin<S>) -> RowTest<S> {
         let n = self.unit_normal;
-        if S::COURSE_ORDER || n.x != S::ZERO {
+        if S::COURSE_ORDER {
+            // A floor or wall's `hits` reads one coordinate: nothing to save.
+            return match self.axis {
+                #[cfg(feature = "plan")]
+                None => RowTest::Plane(self.distance_from(origin.eye)),
+                _ => RowTest::Hits,
+            };
+        }
+        if n.x != S::ZERO {
             return RowTest::Hits;
         }
         let ray = Ray::new(origin.eye, Vec3::new(S::ZERO, origin.dy, origin.dz));
@@ -244,6 +287,23 @@ pub fn plane_row_test<S: Scalar>(obj: &Object<S>, origin: &RowOrigin<S>) -> RowT
     }
 }
 
+/// `row_test` of the finite plane kinds (finite plane, textured plane): each ray tested,
+/// with the plane's `N.point - N.eye` worked out once (their bounds depend on `x`).
+pub fn rect_row_test<S: Scalar>(obj: &Object<S>, origin: &RowOrigin<S>) -> RowTest<S> {
+    let plane = match obj.shape() {
+        Shape::FPlane(rect) => &rect.plane,
+        Shape::TexPlane(textured) => &textured.rect.plane,
+        _ => return RowTest::Hits,
+    };
+    // Row tests come from the plan only; see `Plane::row_test` for why only `f64`.
+    #[cfg(feature = "plan")]
+    if S::COURSE_ORDER {
+        return RowTest::Plane(plane.distance_from(origin.eye));
+    }
+    let _ = (plane, origin);
+    RowTest::Hits
+}
+
 /// `normal` of the plane kinds: the unit normal, everywhere.
 pub fn plane_normal<S: Scalar>(obj: &Object<S>, _: Vec3<S>) -> Vec3<S> {
     match obj.shape() {
@@ -252,6 +312,17 @@ pub fn plane_normal<S: Scalar>(obj: &Object<S>, _: Vec3<S>) -> Vec3<S> {
         Shape::TiledPlane(tiled) => tiled.rect.plane.unit_normal,
         Shape::TexPlane(textured) => textured.rect.plane.unit_normal,
         Shape::Sphere(_) | Shape::RevSurf(_) => Vec3::ZERO,
+    }
+}
+
+/// Coordinate `axis` of `v` (0 for x, 1 for y, 2 for z).
+#[cfg(feature = "plan")]
+#[inline]
+fn component<S: Scalar>(v: Vec3<S>, axis: u8) -> S {
+    match axis {
+        0 => v.x,
+        1 => v.y,
+        _ => v.z,
     }
 }
 

@@ -91,7 +91,7 @@ impl<S: Scalar> TexPlane<S> {
         kind: Entity::TexPlane,
         hits: texplane_hits,
         normal: plane_normal,
-        row_test: super::object_row_test,
+        row_test: super::plane::rect_row_test,
         #[cfg(feature = "print")]
         printer: texplane_print,
         material: object_material,

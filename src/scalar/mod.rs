@@ -460,8 +460,7 @@ impl Scalar for f64 {
     }
     #[inline]
     fn floor_to_i32(self) -> i32 {
-        // `as` saturates and maps NaN to 0: never undefined, never a panic.
-        libm::floor(self) as i32
+        floor_by_truncation!(self, f64, libm::floor)
     }
     #[inline]
     fn from_i32(value: i32) -> Self {
@@ -496,6 +495,30 @@ impl Scalar for f64 {
         (q > 0.0 && q < limit).then_some(q)
     }
 }
+
+/// `floor(v)` as an `i32`, saturated, NaN 0. With a float unit: the conversion truncates
+/// towards zero, so one less when that lands above `v` (a negative fraction). Exact: the
+/// truncated value converts back exactly where `v` has a fraction (below `2^24` in `f32`),
+/// and where it has none it is `v` itself or saturated.
+/// Without one, libm's `floor` on the bits (a soft-float conversion and comparison cost
+/// more).
+macro_rules! floor_by_truncation {
+    ($v:expr, $float:ty, $floor:path) => {{
+        let v: $float = $v;
+        if HARD_FLOAT {
+            // `as` saturates and maps NaN to 0: never undefined, never a panic.
+            let truncated = v as i32;
+            if (truncated as $float) > v {
+                truncated.saturating_sub(1)
+            } else {
+                truncated
+            }
+        } else {
+            $floor(v) as i32
+        }
+    }};
+}
+use floor_by_truncation;
 
 /// Whether the target has a floating-point unit: a float-to-integer conversion is then
 /// one instruction (`VCVT` on a Cortex-M4F), else a call into the soft-float routines.
@@ -626,7 +649,7 @@ impl Scalar for f32 {
     }
     #[inline]
     fn floor_to_i32(self) -> i32 {
-        libm::floorf(self) as i32
+        floor_by_truncation!(self, f32, libm::floorf)
     }
     #[inline]
     fn from_i32(value: i32) -> Self {
@@ -822,6 +845,51 @@ pub(crate) fn write_shortest_float<T: fmt::Display + fmt::LowerExp>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn floor_to_i32_is_libm_floor_saturated() {
+        // Around every whole number that matters (ties at integers, negative fractions,
+        // the i32 limits, f32's 2^24), random bit patterns, and the special values.
+        let mut values = vec![0.0, -0.0, 0.5, -0.5, 1.0, -1.0, f64::NAN, f64::INFINITY];
+        values.push(f64::NEG_INFINITY);
+        for base in [
+            0.0,
+            1.0,
+            7.0,
+            16_777_216.0,
+            2_147_483_647.0,
+            2_147_483_648.0,
+        ] {
+            for sign in [1.0, -1.0] {
+                let v: f64 = sign * base;
+                let mut below = v;
+                let mut above = v;
+                for _ in 0..4 {
+                    below = below.next_down();
+                    above = above.next_up();
+                    values.extend([below, above, v + 0.25, v - 0.75]);
+                }
+            }
+        }
+        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+        for _ in 0..200_000 {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            values.push(f64::from_bits(seed));
+            // Mostly moderate numbers, both signs.
+            values.push((seed >> 11) as f64 / (1u64 << 20) as f64 - 4.0e9);
+        }
+        for v in values {
+            assert_eq!(v.floor_to_i32(), libm::floor(v) as i32, "f64 {v:e}");
+            let single = v as f32;
+            assert_eq!(
+                single.floor_to_i32(),
+                libm::floorf(single) as i32,
+                "f32 {single:e}"
+            );
+        }
+    }
 
     #[test]
     fn sqrt_by_digits_is_libm_sqrt() {

@@ -31,7 +31,11 @@ use crate::scalar::Scalar;
 use crate::vec3::Vec3;
 use core::sync::atomic::AtomicU16;
 
+#[cfg(feature = "batch")]
+mod batch;
 mod row;
+#[cfg(feature = "batch")]
+pub use batch::BATCH;
 pub use row::{ROW_LEVELS, ROW_LIGHTS, RowShading};
 
 /// Rays stop once the distance travelled from the eye exceeds this (the course's bound).
@@ -235,26 +239,30 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let Some(surface) = found.as_ref() else {
             return Vec3::ZERO;
         };
-        // The distance travelled: `t` for the unit rays of f64, `t |dir|` otherwise.
-        let (len, travelled) = if S::COURSE_ORDER {
-            (S::ONE, t)
-        } else {
-            let len = ray.length();
-            (len, t * len)
-        };
-        let total = total + travelled;
-        let c = if S::COURSE_ORDER {
-            self.local(surface, index, ray.base) / total
-        } else {
-            self.local_divided(surface, index, ray, total)
-        };
-        let onward = Onward {
-            index,
-            len,
-            total,
-            depth,
-        };
+        let (c, onward) = self.own_light(ray, surface, index, t, total, depth);
         self.beyond(c, ray, &surface.hit, surface.material, &onward)
+    }
+
+    /// The surface's own light where `ray`, having come `total` so far, meets it (object
+    /// `index`) at `t`, divided by the distance travelled; and what the rays leaving it
+    /// need.
+    #[inline(always)]
+    fn own_light(
+        &self,
+        ray: &Ray<S>,
+        surface: &Surface<'_, S>,
+        index: usize,
+        t: S,
+        total: S,
+        depth: u8,
+    ) -> (Vec3<S>, Onward<S>) {
+        let onward = onward(ray, index, t, total, depth);
+        let c = if S::COURSE_ORDER {
+            self.local(surface, index, ray.base) / onward.total
+        } else {
+            self.local_divided(surface, index, ray, onward.total)
+        };
+        (c, onward)
     }
 
     /// `c`, the surface's own light, plus what its mirror and its transparency let through
@@ -268,12 +276,9 @@ impl<'s, S: Scalar> Shader<'s, S> {
         material: &Material<S>,
         onward: &Onward<S>,
     ) -> Vec3<S> {
-        // `cfg!`: a build without the feature has no such materials (they fail to load), and
-        // the compiler drops the code.
-        if cfg!(feature = "reflection") && self.stages.reflection && material.specular != Vec3::ZERO
-        {
-            let reflected = Ray::with_length(hit.point, reflect(ray.dir, hit.normal), onward.len);
-            c = c + self.follow(&reflected, onward).mul_each(material.specular);
+        if self.mirrors(material) {
+            let reflected = mirror_ray(ray, hit, onward);
+            c = with_mirror(c, self.follow(&reflected, onward), material);
         }
         self.through(c, ray, hit, material, onward)
     }
@@ -282,21 +287,32 @@ impl<'s, S: Scalar> Shader<'s, S> {
     #[inline(always)]
     fn through(
         &self,
-        mut c: Vec3<S>,
+        c: Vec3<S>,
         ray: &Ray<S>,
         hit: &Hit<S>,
         material: &Material<S>,
         onward: &Onward<S>,
     ) -> Vec3<S> {
-        if cfg!(feature = "transparency")
-            && self.stages.transparency
-            && material.transparency != S::ZERO
-        {
-            let through = Ray::with_length(hit.point, ray.dir, onward.len);
-            let behind = self.follow(&through, onward);
-            c = c * (S::ONE - material.transparency) + material.filter.mul_each(behind);
+        if self.transmits(material) {
+            let behind = self.follow(&through_ray(ray, hit, onward), onward);
+            return with_behind(c, behind, material);
         }
         c
+    }
+
+    /// Whether a surface of `material` reflects (`cfg!`: a build without the feature has
+    /// no such materials, they fail to load, and the compiler drops the code).
+    #[inline(always)]
+    fn mirrors(&self, material: &Material<S>) -> bool {
+        cfg!(feature = "reflection") && self.stages.reflection && material.specular != Vec3::ZERO
+    }
+
+    /// Whether a surface of `material` lets light through.
+    #[inline(always)]
+    fn transmits(&self, material: &Material<S>) -> bool {
+        cfg!(feature = "transparency")
+            && self.stages.transparency
+            && material.transparency != S::ZERO
     }
 
     /// The colour along a ray leaving a hit, as `onward` says.
@@ -625,6 +641,48 @@ fn with_ambient<S: Scalar>(
         None => reciprocal::<S>(total),
     };
     c + scaled(ambient, k)
+}
+
+/// What the rays leaving object `index`, met at `t` by `ray` after `total`, need.
+#[inline(always)]
+fn onward<S: Scalar>(ray: &Ray<S>, index: usize, t: S, total: S, depth: u8) -> Onward<S> {
+    // The distance travelled: `t` for the unit rays of f64, `t |dir|` otherwise.
+    let (len, travelled) = if S::COURSE_ORDER {
+        (S::ONE, t)
+    } else {
+        let len = ray.length();
+        (len, t * len)
+    };
+    Onward {
+        index,
+        len,
+        total: total + travelled,
+        depth,
+    }
+}
+
+/// The mirror ray leaving `hit` for a ray along `ray`.
+#[inline(always)]
+fn mirror_ray<S: Scalar>(ray: &Ray<S>, hit: &Hit<S>, onward: &Onward<S>) -> Ray<S> {
+    Ray::with_length(hit.point, reflect(ray.dir, hit.normal), onward.len)
+}
+
+/// The ray going on through a transparent surface at `hit`.
+#[inline(always)]
+fn through_ray<S: Scalar>(ray: &Ray<S>, hit: &Hit<S>, onward: &Onward<S>) -> Ray<S> {
+    Ray::with_length(hit.point, ray.dir, onward.len)
+}
+
+/// `c` plus what the mirror shows, `seen`.
+#[inline(always)]
+fn with_mirror<S: Scalar>(c: Vec3<S>, seen: Vec3<S>, material: &Material<S>) -> Vec3<S> {
+    c + seen.mul_each(material.specular)
+}
+
+/// `c` seen through the surface's transparency, with what lies `behind` it.
+#[inline(always)]
+fn with_behind<S: Scalar>(c: Vec3<S>, behind: Vec3<S>, material: &Material<S>) -> Vec3<S> {
+    c * (S::ONE - material.transparency) + material.filter.mul_each(behind)
 }
 
 /// What the rays leaving a hit need: the object they leave, the length of their

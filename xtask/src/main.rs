@@ -8,8 +8,11 @@
 //!   writes it to `docs/firmware.md`). `--compare-plan` renders each scene a second time
 //!   without the render plan (`SCENE+noplan`). Exits non-zero on any difference or failure.
 //! - `cargo xtask bench [--quick]`: run time against error (`docs/benchmarks.md`).
+//! - `cargo xtask host-profile [--binary PATH] [--out FILE]`: the std tracer's time per
+//!   function (perf) on spec0 and tplane4.
 
 mod bench;
+mod host_profile;
 mod profile;
 mod qemu;
 
@@ -20,9 +23,11 @@ fn main() -> ExitCode {
     let result = match args.first().map(String::as_str) {
         Some("qemu") => qemu::run(&args[1..]),
         Some("bench") => bench::run(&args[1..]),
+        Some("host-profile") => host_profile::run(&args[1..]),
         _ => Err(
             "usage: cargo xtask qemu [--size WIDTHxHEIGHT] [--only SCENE,...] \
-                  [--build PREFIX] [--profile] [--compare-plan] | cargo xtask bench [--quick]"
+                  [--build PREFIX] [--profile] [--compare-plan] | cargo xtask bench [--quick] | cargo xtask host-profile \
+                  [--binary PATH] [--out FILE] [--title TEXT] [--runs N]"
                 .to_string(),
         ),
     };

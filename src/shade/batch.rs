@@ -1,0 +1,265 @@
+//! A row's primary rays shaded [`BATCH`] at a time, stage by stage (feature `batch`, part
+//! of `std`).
+//!
+//! A pixel's colour is one long chain of dependent divisions and square roots (the ray's
+//! direction, its hit, the way to each light, the division by the distance travelled, then
+//! the same again for a mirror's ray), and one pixel's shading is more instructions than an
+//! out-of-order processor looks ahead: traced pixel by pixel, each chain mostly waits for
+//! itself. Stage by stage over a batch (every pixel's surface, then every pixel's own light,
+//! then all the mirror rays, then all the rays through transparent surfaces) the chains of
+//! neighbouring pixels run side by side. Each pixel gets the same operations in the same
+//! order as [`Shader::shade`], so the same colour, bit for bit (tests/plan.rs: the planned
+//! rows are the batched ones, the unplanned traced ray by ray, in every number type; the shadow
+//! cache only changes which object a shadow ray tries first). A microcontroller executes in
+//! order and would only gain memory traffic: the firmware leaves the feature out.
+
+use super::{MAX_DEPTH, Onward, Shader, mirror_ray, through_ray, with_behind, with_mirror};
+use crate::material::Material;
+use crate::object::{Hit, RowEntry, Surface, closest_hit_among, closest_hit_in_row};
+use crate::ray::Ray;
+use crate::scalar::Scalar;
+use crate::vec3::Vec3;
+
+/// Pixels shaded together: enough chains to fill the processor's window, little enough
+/// stack per level of mirrors (about 5 KB in `f64`).
+pub const BATCH: usize = 16;
+
+/// Below this many rays, a batch of mirror or transparency rays is traced ray by ray: the
+/// stages' loops over the whole batch would cost more than the overlap brings.
+const SPARSE: usize = 3;
+
+/// One ray of a batch and where it stands.
+#[derive(Clone, Copy)]
+struct Lane<S> {
+    ray: Ray<S>,
+    /// The object the ray leaves (none for a primary ray).
+    left: Option<usize>,
+    /// The distance travelled before the ray.
+    total: S,
+    depth: u8,
+    /// The object it meets first and where.
+    hit: Option<(usize, S)>,
+}
+
+impl<S: Scalar> Shader<'_, S> {
+    /// The colours seen along up to [`BATCH`] primary rays of a row whose objects' tests
+    /// are prepared: [`primary_in_row`](Self::primary_in_row) for each, into `out`.
+    pub fn primary_batch_in_row(
+        &self,
+        rays: &[Option<Ray<S>>],
+        row: &[RowEntry<S>],
+        out: &mut [Vec3<S>; BATCH],
+    ) {
+        let mut lanes = [None; BATCH];
+        for (lane, ray) in lanes.iter_mut().zip(rays) {
+            *lane = ray.map(|ray| Lane {
+                ray,
+                left: None,
+                total: S::ZERO,
+                depth: 0,
+                hit: closest_hit_in_row(self.objects, row, self.tree(), &ray, self.z_limit),
+            });
+        }
+        self.shade_lanes(&lanes, out);
+    }
+
+    /// [`trace`](Self::trace) for each lane.
+    fn trace_lanes(&self, lanes: &mut [Option<Lane<S>>; BATCH], out: &mut [Vec3<S>; BATCH]) {
+        if lanes.iter().flatten().count() < SPARSE {
+            for (c, lane) in out.iter_mut().zip(lanes.iter()) {
+                *c = lane.map_or(Vec3::ZERO, |l| self.trace(&l.ray, l.total, l.left, l.depth));
+            }
+            return;
+        }
+        for slot in lanes.iter_mut() {
+            let Some(lane) = slot else { continue };
+            if lane.total > self.max_distance || lane.depth > MAX_DEPTH {
+                *slot = None;
+                continue;
+            }
+            lane.hit = closest_hit_among(
+                self.objects,
+                &self.among,
+                &lane.ray,
+                lane.left,
+                S::UNBOUNDED,
+                self.z_limit,
+            );
+        }
+        self.shade_lanes(lanes, out);
+    }
+
+    /// [`shade`](Self::shade) for each lane that meets an object; black for the others.
+    fn shade_lanes(&self, lanes: &[Option<Lane<S>>; BATCH], out: &mut [Vec3<S>; BATCH]) {
+        // Every surface, then every own light: the chains of the batch side by side. The
+        // surfaces are written where they stay (they are large to move).
+        let mut surfaces: [Option<Surface<'_, S>>; BATCH] = [None; BATCH];
+        for (surface, lane) in surfaces.iter_mut().zip(lanes) {
+            let Some((lane, (index, t))) = lane.as_ref().and_then(|l| Some((l, l.hit?))) else {
+                continue;
+            };
+            if let Some(object) = self.objects.get(index) {
+                *surface = object.surface(&self.palette, &lane.ray, t);
+            }
+        }
+        let mut onward: [Option<Onward<S>>; BATCH] = [None; BATCH];
+        for ((leaving, surface), lane) in onward.iter_mut().zip(&surfaces).zip(lanes) {
+            if let (Some(_), Some(lane)) = (surface, lane) {
+                *leaving = lane
+                    .hit
+                    .map(|(index, t)| super::onward(&lane.ray, index, t, lane.total, lane.depth));
+            }
+        }
+        self.own_lights(lanes, &surfaces, &onward, out);
+        // Then what the mirrors show, then what lies behind transparent surfaces, in the
+        // order `beyond` adds them.
+        let shaded = Shaded {
+            lanes,
+            surfaces: &surfaces,
+            onward: &onward,
+        };
+        self.leaving(&shaded, out, |s, m| s.mirrors(m), mirror_ray, with_mirror);
+        self.leaving(
+            &shaded,
+            out,
+            |s, m| s.transmits(m),
+            through_ray,
+            with_behind,
+        );
+    }
+
+    /// Each shaded lane's own light into `out` (black for the others): as
+    /// [`own_light`](Self::own_light), with the lights in the outer loop in `f64` so that
+    /// the lanes' shadow rays to one light run side by side (each lane adds its lights in
+    /// the same order as [`local`](Self::local)).
+    #[inline(always)]
+    fn own_lights(
+        &self,
+        lanes: &[Option<Lane<S>>; BATCH],
+        surfaces: &[Option<Surface<'_, S>>; BATCH],
+        onward: &[Option<Onward<S>>; BATCH],
+        out: &mut [Vec3<S>; BATCH],
+    ) {
+        for c in out.iter_mut() {
+            *c = Vec3::ZERO;
+        }
+        if !S::COURSE_ORDER {
+            for (c, lane, surface, onward) in lit(out, lanes, surfaces, onward) {
+                *c = self.local_divided(surface, onward.index, &lane.ray, onward.total);
+            }
+            return;
+        }
+        for (c, _, surface, _) in lit(out, lanes, surfaces, onward) {
+            *c = surface.ambient;
+        }
+        if self.stages.illumination {
+            for light in self.lights {
+                for (c, lane, surface, onward) in lit(out, lanes, surfaces, onward) {
+                    let material = surface.material;
+                    *c = *c
+                        + self.illuminate(
+                            light,
+                            onward.index,
+                            &surface.hit,
+                            lane.ray.base,
+                            surface.diffuse,
+                            material.specular,
+                            material.shininess,
+                        );
+                }
+            }
+        }
+        for (c, _, _, onward) in lit(out, lanes, surfaces, onward) {
+            *c = *c / onward.total;
+        }
+    }
+
+    /// Traces the rays leaving the shaded hits whose material `leaves` says so (`ray` makes
+    /// them) and adds what they see to their colours in `out` (as `add` says).
+    #[inline(always)]
+    fn leaving(
+        &self,
+        shaded: &Shaded<'_, '_, S>,
+        out: &mut [Vec3<S>; BATCH],
+        leaves: impl Fn(&Self, &Material<S>) -> bool,
+        ray: impl Fn(&Ray<S>, &Hit<S>, &Onward<S>) -> Ray<S>,
+        add: impl Fn(Vec3<S>, Vec3<S>, &Material<S>) -> Vec3<S>,
+    ) {
+        let mut next = [None; BATCH];
+        let mut any = false;
+        for (((next, lane), surface), onward) in next
+            .iter_mut()
+            .zip(shaded.lanes)
+            .zip(shaded.surfaces)
+            .zip(shaded.onward)
+        {
+            if let (Some(lane), Some(surface), Some(onward)) = (lane, surface, onward) {
+                if leaves(self, surface.material) {
+                    *next = Some(follow(ray(&lane.ray, &surface.hit, onward), onward));
+                    any = true;
+                }
+            }
+        }
+        if !any {
+            return;
+        }
+        let mut seen = [Vec3::ZERO; BATCH];
+        self.trace_lanes(&mut next, &mut seen);
+        // The same test as above (`trace_lanes` drops the lanes it stops: they add black).
+        for (((c, seen), surface), onward) in out
+            .iter_mut()
+            .zip(seen)
+            .zip(shaded.surfaces)
+            .zip(shaded.onward)
+        {
+            if let (Some(surface), Some(_)) = (surface, onward) {
+                if leaves(self, surface.material) {
+                    *c = add(*c, seen, surface.material);
+                }
+            }
+        }
+    }
+}
+
+/// A batch's lanes with their surfaces and what the rays leaving them need.
+struct Shaded<'a, 's, S> {
+    lanes: &'a [Option<Lane<S>>; BATCH],
+    surfaces: &'a [Option<Surface<'s, S>>; BATCH],
+    onward: &'a [Option<Onward<S>>; BATCH],
+}
+
+/// The colours of the lanes that met a surface, with the lane, the surface and what the
+/// rays leaving it need.
+#[inline(always)]
+fn lit<'a, 's, S: Scalar>(
+    out: &'a mut [Vec3<S>; BATCH],
+    lanes: &'a [Option<Lane<S>>; BATCH],
+    surfaces: &'a [Option<Surface<'s, S>>; BATCH],
+    onward: &'a [Option<Onward<S>>; BATCH],
+) -> impl Iterator<
+    Item = (
+        &'a mut Vec3<S>,
+        &'a Lane<S>,
+        &'a Surface<'s, S>,
+        &'a Onward<S>,
+    ),
+> {
+    out.iter_mut()
+        .zip(lanes)
+        .zip(surfaces)
+        .zip(onward)
+        .filter_map(|(((c, lane), surface), onward)| {
+            Some((c, lane.as_ref()?, surface.as_ref()?, onward.as_ref()?))
+        })
+}
+
+/// The lane of a ray leaving a hit, as `onward` says (as [`Shader::follow`]).
+fn follow<S: Scalar>(ray: Ray<S>, onward: &Onward<S>) -> Lane<S> {
+    Lane {
+        ray,
+        left: Some(onward.index),
+        total: onward.total,
+        depth: onward.depth + 1,
+        hit: None,
+    }
+}

@@ -418,7 +418,16 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
                 match self.row_shading(&shader, &tests, &rays) {
                     // A plane at the same `t` for every ray of the row.
                     Some(shading) => shade_row(&shader, &shading, &tests, rays, row),
-                    None => self.fill_planned_row(&shader, &tests, rays, row),
+                    // Stage by stage on the host (see `shade::batch`).
+                    #[cfg(feature = "batch")]
+                    None if self.shading == Shading::Color => {
+                        shade_batches(&shader, &tests, rays, row);
+                    }
+                    None => {
+                        for (slot, ray) in row.iter_mut().zip(rays) {
+                            *slot = self.color_in_row(&shader, ray, &tests).into();
+                        }
+                    }
                 }
             } else {
                 for (slot, ray) in row.iter_mut().zip(rays) {
@@ -472,33 +481,20 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         match work {
             // A plane at the same `t` for every ray of the row.
             RowWork::Planned(tests, Some(shading)) => shade_row(shader, shading, tests, rays, row),
-            RowWork::Planned(tests, None) => self.fill_planned_row(shader, tests, rays, row),
+            #[cfg(feature = "batch")]
+            RowWork::Planned(tests, None) if self.shading == Shading::Color => {
+                shade_batches(shader, tests, rays, row);
+            }
+            RowWork::Planned(tests, None) => {
+                for (slot, ray) in row.iter_mut().zip(rays) {
+                    *slot = self.color_in_row(shader, ray, tests).into();
+                }
+            }
             RowWork::All => {
                 for (slot, ray) in row.iter_mut().zip(rays) {
                     *slot = self.color(shader, ray, Among::All).into();
                 }
             }
-        }
-    }
-}
-
-impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
-    /// Shades the rays `rays` of a row whose objects' tests are prepared (`tests`) into
-    /// `row`: ray by ray, or (feature `batch`) [`BATCH`](crate::shade::BATCH) at a time.
-    #[inline]
-    fn fill_planned_row<C: From<Rgb888>>(
-        &self,
-        shader: &Shader<'_, S>,
-        tests: &[RowEntry<S>],
-        rays: RowRays<S>,
-        row: &mut [C],
-    ) {
-        #[cfg(feature = "batch")]
-        if self.shading == Shading::Color {
-            return shade_batches(shader, tests, rays, row);
-        }
-        for (slot, ray) in row.iter_mut().zip(rays) {
-            *slot = self.color_in_row(shader, ray, tests).into();
         }
     }
 }

@@ -2,6 +2,7 @@
 //! scene, on the host (criterion) and on the emulated microcontrollers (exact instruction
 //! counts), written to `docs/benchmarks.md` with a plot in `docs/benchmarks.svg`.
 
+use crate::host_profile;
 use crate::qemu::{self, Options, Row};
 use microray::Scalar;
 use microray::host::{
@@ -242,6 +243,20 @@ fn process_report(
         );
     }
     let _ = std::fs::remove_file(&output);
+    // Where the time goes, per function: this build, and the one before the std tracer's
+    // batching (docs/host-profile-before.md, written by `cargo xtask host-profile`).
+    match host_profile::report(root, &binary, "this build", runs) {
+        Ok(now) => {
+            let _ = write!(out, "\n{now}");
+        }
+        // Not every machine lets a user sample (perf missing, perf_event_paranoid).
+        Err(e) => {
+            let _ = writeln!(out, "\n(No per-function profile of this build: {e}.)");
+        }
+    }
+    if let Ok(before) = std::fs::read_to_string(root.join("docs/host-profile-before.md")) {
+        let _ = write!(out, "\n{before}");
+    }
     Ok(())
 }
 

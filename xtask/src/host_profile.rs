@@ -54,8 +54,18 @@ pub fn run(args: &[String]) -> Result<(), String> {
             root.join("target/release/microray")
         }
     };
-    let conformance = qemu::conformance_dir(&root);
-    let scenes = qemu::scene_files(&root, conformance.as_deref());
+    let report = report(&root, &binary, &title, runs)?;
+    print!("{report}");
+    if let Some(out) = out {
+        std::fs::write(&out, &report).map_err(|e| format!("{}: {e}", out.display()))?;
+    }
+    Ok(())
+}
+
+/// The profile tables of [`SCENES`] for `binary`, headed `title`.
+pub fn report(root: &Path, binary: &Path, title: &str, runs: usize) -> Result<String, String> {
+    let conformance = qemu::conformance_dir(root);
+    let scenes = qemu::scene_files(root, conformance.as_deref());
     let mut report = String::new();
     let _ = writeln!(
         report,
@@ -67,7 +77,7 @@ pub fn run(args: &[String]) -> Result<(), String> {
         let Some(path) = scenes.get(name) else {
             continue;
         };
-        let shares = profile(&binary, path, runs)?;
+        let shares = profile(binary, path, runs)?;
         let _ = writeln!(report, "| {name}: function | share |\n|---|---|");
         for (function, share) in shares.iter().take(TOP) {
             let _ = writeln!(report, "| `{function}` | {share:.1} % |");
@@ -75,11 +85,7 @@ pub fn run(args: &[String]) -> Result<(), String> {
         let rest: f64 = shares.iter().skip(TOP).map(|(_, s)| s).sum();
         let _ = writeln!(report, "| (everything else) | {rest:.1} % |\n");
     }
-    print!("{report}");
-    if let Some(out) = out {
-        std::fs::write(&out, &report).map_err(|e| format!("{}: {e}", out.display()))?;
-    }
-    Ok(())
+    Ok(report)
 }
 
 /// Self-time shares by function, largest first.

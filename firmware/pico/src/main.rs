@@ -2,11 +2,18 @@
 //! display: the project's showcase scene, embedded at build time, rendered in Q16.16 fixed
 //! point straight to the panel, one row at a time (one SPI window write per row; no
 //! framebuffer). The on-board LED lights while rendering. See README.md for wiring.
+//!
+//! With the `two-cores` feature both cores render: core 1 the odd rows, handed over in a
+//! small queue, core 0 the even rows and every SPI write (the split `host::render_parallel`
+//! makes on a PC, with the library's `render_area` on one-row areas).
 #![no_std]
 #![no_main]
 
+#[cfg(not(feature = "two-cores"))]
 use core::ops::ControlFlow;
-use embedded_graphics::pixelcolor::{Rgb565, Rgb888, RgbColor};
+#[cfg(not(feature = "two-cores"))]
+use embedded_graphics::pixelcolor::Rgb888;
+use embedded_graphics::pixelcolor::{Rgb565, RgbColor};
 use embedded_graphics::prelude::{DrawTarget, DrawTargetExt, Point};
 use embedded_hal::digital::OutputPin;
 use embedded_hal_bus::spi::ExclusiveDevice;
@@ -14,6 +21,7 @@ use fugit::RateExtU32;
 use microray::Scene;
 use microray::error::TextureError;
 use microray::parse::parse_scene_into;
+#[cfg(not(feature = "two-cores"))]
 use microray::render::Renderer;
 use microray::scalar::I16F16;
 use mipidsi::Builder;
@@ -22,7 +30,12 @@ use mipidsi::models::ST7789;
 use mipidsi::options::ColorInversion;
 use panic_halt as _;
 use rp_pico::entry;
+#[cfg(feature = "two-cores")]
+use rp_pico::hal::multicore::Multicore;
 use rp_pico::hal::{self, clocks::Clock, gpio, pac, spi};
+
+#[cfg(feature = "two-cores")]
+mod two_cores;
 
 /// The scene and its texture, from the repository's `scenes/` at build time.
 const SHOWCASE: &str = include_str!("../../../scenes/showcase.txt");
@@ -87,8 +100,13 @@ fn main() -> ! {
     display.clear(Rgb565::BLACK).unwrap();
     backlight.set_high().unwrap();
 
-    // The scene, built in place; a scene that does not load shows a red panel.
-    let mut scene = PicoScene::empty();
+    // The scene, built in place (in a static: with two cores, core 1 reads it too); a scene
+    // that does not load shows a red panel.
+    let Some(scene) = cortex_m::singleton!(: PicoScene = PicoScene::empty()) else {
+        loop {
+            cortex_m::asm::wfi();
+        }
+    };
     let textures = |name: &str| {
         if name == "images/card.ppm" {
             Ok(CARD)
@@ -96,7 +114,7 @@ fn main() -> ! {
             Err(TextureError::NotFound)
         }
     };
-    if parse_scene_into(SHOWCASE.as_bytes(), textures, &mut scene).is_err()
+    if parse_scene_into(SHOWCASE.as_bytes(), textures, scene).is_err()
         || scene.set_resolution(PANEL, HEIGHT).is_err()
     {
         display.clear(Rgb565::RED).unwrap();
@@ -108,13 +126,23 @@ fn main() -> ! {
     led.set_high().unwrap();
     let top = i32::from((PANEL - HEIGHT) / 2);
     let mut target = display.translated(Point::new(0, top));
-    let mut row = [Rgb565::from(Rgb888::BLACK); PANEL as usize];
-    // Progressively: the whole picture in 8x8 blocks after 1/64 of the work, then 4x4, 2x2
-    // and every pixel, each traced once; the panel ends with the image a row-by-row render
-    // (`render_area`) draws. A caller that wants to do something between passes calls
-    // `render_pass(&mut target, &mut row, pass)` for passes 0 to 3 instead.
-    let _ = Renderer::new(&scene)
-        .render_progressive(&mut target, &mut row, |_| ControlFlow::Continue(()));
+    let scene: &'static PicoScene = scene;
+    #[cfg(feature = "two-cores")]
+    {
+        let mut fifo = sio.fifo;
+        let mut multicore = Multicore::new(&mut pac.PSM, &mut pac.PPB, &mut fifo);
+        two_cores::render(&mut multicore, scene, &mut target);
+    }
+    #[cfg(not(feature = "two-cores"))]
+    {
+        let mut row = [Rgb565::from(Rgb888::BLACK); PANEL as usize];
+        // Progressively: the whole picture in 8x8 blocks after 1/64 of the work, then 4x4,
+        // 2x2 and every pixel, each traced once; the panel ends with the image a row-by-row
+        // render (`render_area`) draws. A caller that wants to do something between passes
+        // calls `render_pass(&mut target, &mut row, pass)` for passes 0 to 3 instead.
+        let _ = Renderer::new(scene)
+            .render_progressive(&mut target, &mut row, |_| ControlFlow::Continue(()));
+    }
     led.set_low().unwrap();
 
     loop {

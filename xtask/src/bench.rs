@@ -257,6 +257,10 @@ fn process_report(
     if let Ok(before) = std::fs::read_to_string(root.join("docs/host-profile-before.md")) {
         let _ = write!(out, "\n{before}");
     }
+    // The steps between the two, measured as they were made.
+    if let Ok(log) = std::fs::read_to_string(root.join("docs/host-speed-log.md")) {
+        let _ = write!(out, "\n{log}");
+    }
     Ok(())
 }
 

@@ -36,7 +36,7 @@ pub struct Node<S> {
     pub low: Vec3<S>,
     /// Its highest corner, widened likewise.
     pub high: Vec3<S>,
-    /// A leaf's first object in [`Bvh::order`]; an inner node's second child (the first
+    /// A leaf's first object in `Bvh::order`; an inner node's second child (the first
     /// is the next node).
     pub first: u16,
     /// A leaf's object count; 0 for an inner node.

@@ -360,7 +360,7 @@ impl Scalar for I16F16 {
         };
         (sum > 0).then(|| Wide::from_u64(sum as u64, -32))
     }
-    /// Along an axis on Cortex-M0 (see [`dot_along_axis`]), where products are dear;
+    /// Along an axis on Cortex-M0 (see `dot_along_axis`), where products are dear;
     /// elsewhere the test would cost what it saves.
     #[inline]
     fn dot_unit(v: Vec3<Self>, n: Vec3<Self>) -> Self {
@@ -371,7 +371,7 @@ impl Scalar for I16F16 {
         }
     }
     /// Along an axis on Cortex-M0, as [`dot_unit`](Self::dot_unit) (see
-    /// [`reflect_along_axis`]).
+    /// `reflect_along_axis`).
     #[inline]
     fn reflect(dir: Vec3<Self>, n: Vec3<Self>) -> Vec3<Self> {
         if in_halves() {
@@ -380,7 +380,7 @@ impl Scalar for I16F16 {
             dir - n * (Self::TWO * Self::dot(dir, n))
         }
     }
-    /// As [`dot_unit`](Self::dot_unit), with [`positive_dot_along_axis`].
+    /// As [`dot_unit`](Self::dot_unit), with `positive_dot_along_axis`.
     #[inline]
     fn positive_dot_unit(v: Vec3<Self>, n: Vec3<Self>) -> Option<Wide> {
         if in_halves() {
@@ -434,7 +434,7 @@ impl Scalar for I16F16 {
     }
 
     /// Rounded to nearest, ties to even, saturated; NaN is 0. On the bits (see
-    /// [`q16_bits_of_f64`]): no floating-point arithmetic, which a Cortex-M has only in
+    /// `q16_bits_of_f64`): no floating-point arithmetic, which a Cortex-M has only in
     /// software for `f64`. Out of line: scenes are loaded once, and every inlined copy
     /// would cost flash.
     #[inline(never)]

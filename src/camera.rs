@@ -300,6 +300,12 @@ impl<S: Scalar> Camera<S> {
     pub fn height(&self) -> u16 {
         self.height
     }
+    /// Image row `row` (0 the top, as a display counts) as the camera counts it (0 the
+    /// bottom, as the course's pixel loop does).
+    #[inline]
+    pub fn row_from_top(&self, row: u16) -> u16 {
+        self.height.saturating_sub(1).saturating_sub(row)
+    }
     /// The world window's size on the image plane.
     pub fn world(&self) -> [S; 2] {
         self.world

@@ -229,7 +229,7 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
 
     /// The objects primary rays of `row` (0 the top) can hit, by index; `None` means all.
     fn row_objects(&self, row: u16) -> Option<heapless::Vec<u16, OBJECTS>> {
-        let y = self.camera.height().saturating_sub(1).saturating_sub(row);
+        let y = self.camera.row_from_top(row);
         self.planned().then(|| self.plan.objects_in_row(y))
     }
 
@@ -254,7 +254,7 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
         row: u16,
         among: Among<'_, S>,
     ) -> Vec3<S> {
-        let y = self.camera.height().saturating_sub(1).saturating_sub(row);
+        let y = self.camera.row_from_top(row);
         self.camera
             .primary_ray(x, y)
             .map_or(Vec3::ZERO, |ray| shader.primary_among(&ray, among))
@@ -264,7 +264,7 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
     /// check that a number type makes no object appear or vanish.
     pub fn object_at(&self, x: u16, row: u16) -> Option<usize> {
         let objects = self.row_objects(row);
-        let y = self.camera.height().saturating_sub(1).saturating_sub(row);
+        let y = self.camera.row_from_top(row);
         self.camera
             .primary_ray(x, y)
             .and_then(|ray| self.shader().first_object_among(&ray, among(&objects)))
@@ -275,7 +275,7 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
     /// pixel.
     pub fn pixel(&self, x: u16, row: u16) -> Rgb888 {
         let objects = self.row_objects(row);
-        let y = self.camera.height().saturating_sub(1).saturating_sub(row);
+        let y = self.camera.row_from_top(row);
         self.color(
             &self.shader(),
             self.camera.primary_ray(x, y),
@@ -359,7 +359,7 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
         if self.shading != Shading::Color || row >= self.camera.height() {
             return false;
         }
-        let camera_y = self.camera.height().saturating_sub(1).saturating_sub(row);
+        let camera_y = self.camera.row_from_top(row);
         let rays = self.camera.row_rays(camera_y, 0);
         let shader = self.shader();
         self.row_tests(camera_y, &rays)
@@ -410,7 +410,7 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
         let mut tests = heapless::Vec::new();
         for done in 1..=total {
             let y = top.saturating_add(done - 1);
-            let camera_y = self.camera.height().saturating_sub(1).saturating_sub(y);
+            let camera_y = self.camera.row_from_top(y);
             let rays = self.camera.row_rays(camera_y, left);
             // As `fill_row` (written out: sharing it moves the M0 firmware's flash by
             // hundreds of bytes, over its 64 KiB).

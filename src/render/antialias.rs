@@ -300,12 +300,7 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
         for done in 1..=total {
             let y = top.saturating_add(done - 1);
             sums.fill(AaPixel::NEW);
-            let camera_y = self
-                .renderer
-                .camera
-                .height()
-                .saturating_sub(1)
-                .saturating_sub(y);
+            let camera_y = self.renderer.camera.row_from_top(y);
             let last = self.renderer.camera.width().saturating_sub(1);
             let width = sums.len();
             for k in 0..count {
@@ -411,7 +406,7 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
                     threshold,
                 );
             }
-            let camera_y = height.saturating_sub(1).saturating_sub(y);
+            let camera_y = self.renderer.camera.row_from_top(y);
             let objects = self.renderer.row_objects(y);
             // The edges' samples before the row goes out: the target's call is output only.
             let shown = this.get_mut(1..=usize::from(width)).unwrap_or_default();
@@ -503,12 +498,7 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
     /// as it holds), each with the object it sees.
     fn plain_row(&self, tests: &mut RowTests<S, OBJECTS>, y: u16, first: u16, row: &mut [AaPixel]) {
         row.fill(AaPixel::NEW);
-        let camera_y = self
-            .renderer
-            .camera
-            .height()
-            .saturating_sub(1)
-            .saturating_sub(y);
+        let camera_y = self.renderer.camera.row_from_top(y);
         self.add_row(tests, camera_y, first, [S::ZERO; 2], row, true);
     }
 

@@ -170,7 +170,7 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         tests: &mut RowTests<S, OBJECTS>,
         f: impl FnOnce(RowRays<S>, RowWork<'_, 'r, S>) -> R,
     ) -> R {
-        let camera_y = self.camera.height().saturating_sub(1).saturating_sub(y);
+        let camera_y = self.camera.row_from_top(y);
         let rays = self.camera.row_rays(camera_y, 0);
         if self.prepare_row(camera_y, &rays, tests) {
             let shading = self.row_shading(shader, tests, &rays);
@@ -200,7 +200,7 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
             stride,
             block,
         } = traced;
-        let camera_y = self.camera.height().saturating_sub(1).saturating_sub(y);
+        let camera_y = self.camera.row_from_top(y);
         let stride = stride.max(1);
         // Only the traced pixels' rays, the same as the row's, shaded as whole rows are.
         let rays = self.camera.row_rays_every(camera_y, first, stride);

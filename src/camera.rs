@@ -70,6 +70,51 @@ impl<S: Scalar> Iterator for RowRays<S> {
     }
 }
 
+#[cfg(feature = "batch")]
+impl<S: Scalar> RowRays<S> {
+    /// The next `out.len()` rays into `out` (`None` past the row's end), as as many calls
+    /// of [`next`](Iterator::next) give them, bit for bit. In `f64` a batch's divisions
+    /// and square roots are done side by side ([`crate::lanes`]).
+    #[inline]
+    pub fn next_batch(&mut self, out: &mut [Option<Ray<S>>]) {
+        const BATCH: usize = crate::shade::BATCH;
+        let course_f64 = S::CODE == f64::CODE && matches!(S::PIXEL_STEPS, PixelSteps::Course);
+        if !course_f64 || out.len() != BATCH || usize::from(self.left) < BATCH {
+            for slot in out.iter_mut() {
+                *slot = self.next().flatten();
+            }
+            return;
+        }
+        let mut i = [0u16; BATCH];
+        for i in &mut i {
+            *i = self.x.i;
+            self.x.i = self.x.i.saturating_add(self.x.stride);
+        }
+        self.left -= BATCH as u16;
+        #[cfg(feature = "antialias")]
+        let shift = self.shift_x.to_f64();
+        // The positions are not below +0 (the window is above 0), so adding +0 changes none.
+        #[cfg(not(feature = "antialias"))]
+        let shift = 0.0;
+        let dx = crate::lanes::row_offsets(
+            self.x.world.to_f64(),
+            &i,
+            self.x.n,
+            shift,
+            self.eye.x.to_f64(),
+        );
+        let [x, y, z, length] =
+            crate::lanes::unit_directions(&dx, self.dy.to_f64(), self.dz.to_f64());
+        let units = x.into_iter().zip(y).zip(z).zip(length);
+        for (slot, (((x, y), z), length)) in out.iter_mut().zip(units) {
+            *slot = (length > 0.0).then(|| {
+                let unit = Vec3::new(S::from_f64(x), S::from_f64(y), S::from_f64(z));
+                Ray::with_length(self.eye, unit, S::ONE)
+            });
+        }
+    }
+}
+
 /// A value of a [`PixelSteps::Exact`] type in its steps: the raw word, sign-extended.
 fn signed_raw<S: Scalar>(value: S) -> i64 {
     let unused = 64 - 8 * S::RAW_BYTES.clamp(1, 8) as u32;
@@ -386,6 +431,46 @@ impl<S: Scalar> Camera<S> {
 mod tests {
     use super::*;
     use crate::scalar::I16F16;
+
+    #[cfg(feature = "batch")]
+    #[test]
+    fn batches_are_the_rays_one_by_one() {
+        use crate::shade::BATCH;
+        let bits = |ray: Option<Ray<f64>>| {
+            ray.map(|r| [r.base, r.dir].map(|v| [v.x, v.y, v.z].map(f64::to_bits)))
+        };
+        let cameras = [
+            ([640, 480], [8.0, 6.0], [4.0, 3.0, 3.0]),
+            ([37, 5], [0.3, 2.0], [-1.5, 0.25, 7.0]),
+            // The eye on the image plane: one pixel has no direction.
+            ([21, 21], [2.0, 2.0], [1.0, 1.0, 0.0]),
+        ];
+        let mut no_direction = false;
+        for (pixeldim, worlddim, viewpoint) in cameras {
+            let def = CameraDef::new("c", pixeldim, worlddim, viewpoint);
+            let camera = Camera::<f64>::build(&def, 1024, 1.0).unwrap();
+            for (y, first, stride) in [(0, 0, 1), (3, 5, 1), (4, 1, 2), (2, 0, 3), (10, 0, 1)] {
+                #[cfg(feature = "antialias")]
+                let shifted = camera.shifted_row_rays(y, first, [0.01, -0.02]);
+                #[cfg(not(feature = "antialias"))]
+                let shifted = camera.row_rays_every(y, first, stride);
+                for rays in [camera.row_rays_every(y, first, stride), shifted] {
+                    let one_by_one: Vec<_> = rays.clone().map(bits).collect();
+                    let mut batched = Vec::new();
+                    let mut rays = rays;
+                    for size in [BATCH, 3, BATCH, BATCH, 1].iter().cycle().take(200) {
+                        let mut out = [None; BATCH];
+                        rays.next_batch(&mut out[..*size]);
+                        batched.extend(out[..*size].iter().map(|r| bits(*r)));
+                    }
+                    assert!(batched[one_by_one.len()..].iter().all(Option::is_none));
+                    assert_eq!(batched[..one_by_one.len()], one_by_one[..]);
+                    no_direction |= one_by_one.contains(&None);
+                }
+            }
+        }
+        assert!(no_direction);
+    }
 
     #[test]
     fn exact_steps_are_the_course_positions() {

@@ -88,6 +88,8 @@ pub mod compiled;
 pub mod decimal;
 pub mod dither;
 pub mod error;
+#[cfg(feature = "batch")]
+mod lanes;
 pub mod light;
 pub mod material;
 pub mod name;

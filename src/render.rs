@@ -512,8 +512,8 @@ fn shade_batches<S: Scalar, C: From<Rgb888>>(
     use crate::shade::BATCH;
     for slots in row.chunks_mut(BATCH) {
         let mut batch = [None; BATCH];
-        for (ray, next) in batch.iter_mut().take(slots.len()).zip(&mut rays) {
-            *ray = next;
+        if let Some(batch) = batch.get_mut(..slots.len()) {
+            rays.next_batch(batch);
         }
         let mut colors = [Vec3::ZERO; BATCH];
         shader.primary_batch_in_row(&batch, tests, &mut colors);

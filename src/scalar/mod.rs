@@ -475,11 +475,18 @@ impl Scalar for f64 {
     fn is_beyond_range(self) -> bool {
         !self.is_finite()
     }
-    /// Exact: the quotient is not computed when the signs differ (it is negative) or when
-    /// `|num| > |den| limit` by more than 16 units in the last place (it rounds to `limit`
-    /// or more: the quotient's and the product's roundings are one unit each).
+    /// Exact: with a double-precision unit the division costs less than the tests that
+    /// would avoid it, and the quotient alone decides (a zero, signs that differ, a zero
+    /// `den` or a NaN give no `q` in `(0, limit)`). In software the quotient is not
+    /// computed when the signs differ (it is negative) or when `|num| > |den| limit` by
+    /// more than 16 units in the last place (it rounds to `limit` or more: the quotient's
+    /// and the product's roundings are one unit each).
     #[inline]
     fn parameter_within(num: Self, den: Self, limit: Self) -> Option<Self> {
+        if HARD_DOUBLE {
+            let q = num / den;
+            return (q > 0.0 && q < limit).then_some(q);
+        }
         if num == 0.0 || den == 0.0 || (num > 0.0) != (den > 0.0) {
             return None;
         }
@@ -527,6 +534,9 @@ const HARD_FLOAT: bool = cfg!(any(
     target_arch = "aarch64",
     all(target_arch = "arm", target_abi = "eabihf")
 ));
+
+/// Whether the target has a double-precision floating-point unit.
+const HARD_DOUBLE: bool = cfg!(any(target_arch = "x86_64", target_arch = "aarch64"));
 
 /// `floor(v * 255)` clamped to 0..=255 (NaN 0), exactly as the `f64` product gives it, with
 /// the float unit: `v 2^32` is exact (a power of two) and, for `v` in `[2^-9, 1)`, a whole

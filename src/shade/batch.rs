@@ -51,13 +51,15 @@ impl<S: Scalar> Shader<'_, S> {
         out: &mut [Vec3<S>; BATCH],
     ) {
         let mut lanes = [None; BATCH];
+        // The tests read each ray where it was made a while ago, not from a copy just
+        // written (a load from stores still in flight waits for them).
         for (lane, ray) in lanes.iter_mut().zip(rays) {
-            *lane = ray.map(|ray| Lane {
-                ray,
+            *lane = ray.as_ref().map(|ray| Lane {
+                ray: *ray,
                 left: None,
                 total: S::ZERO,
                 depth: 0,
-                hit: closest_hit_in_row(self.objects, row, self.tree(), &ray, self.z_limit),
+                hit: closest_hit_in_row(self.objects, row, self.tree(), ray, self.z_limit),
             });
         }
         self.shade_lanes(&lanes, out);

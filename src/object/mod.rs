@@ -610,6 +610,80 @@ pub fn closest_hit_in_row<S: Scalar>(
     best
 }
 
+/// [`closest_hit_in_row`] for the primary rays of a row shaded together (`None` where there
+/// is no ray), into `hits`: the row's entries in the outer loop and the rays in the inner
+/// one, so that the rays' tests of one object run side by side. Each ray meets the entries
+/// in the same order with the same limits, so the same hits (tests/plan.rs).
+#[cfg(feature = "batch")]
+pub fn closest_hits_in_row<S: Scalar>(
+    objects: &[Object<S>],
+    row: &[RowEntry<S>],
+    tree: Option<&Tree<'_, S>>,
+    rays: &[Option<Ray<S>>],
+    z_limit: S,
+    hits: &mut [Option<(usize, S)>],
+) {
+    const LANES: usize = crate::shade::BATCH;
+    let mut limits = [S::UNBOUNDED; LANES];
+    for hit in hits.iter_mut() {
+        *hit = None;
+    }
+    let nearer = |best: &mut Option<(usize, S)>, limit: &mut S, index: usize, ray: &Ray<S>, t| {
+        if ray.base.z + ray.dir.z * t <= z_limit {
+            *best = Some((index, t));
+            *limit = t;
+        }
+    };
+    for entry in row {
+        let index = usize::from(entry.index);
+        let lanes = hits
+            .iter_mut()
+            .zip(limits.iter_mut())
+            .zip(rays)
+            .filter_map(|((best, limit), ray)| Some((best, limit, ray.as_ref()?)));
+        let object = objects.get(index);
+        match (&entry.test, object) {
+            (RowTest::Miss, _) => {}
+            (RowTest::At(t), _) => {
+                for (best, limit, _) in lanes {
+                    if *t < *limit {
+                        *best = Some((index, *t));
+                        *limit = *t;
+                    }
+                }
+            }
+            #[cfg(feature = "plan")]
+            (RowTest::Plane(distance), Some(object)) if S::COURSE_ORDER => {
+                for (best, limit, ray) in lanes {
+                    if let Some(t) = object.hits_from_distance(ray, *distance, *limit) {
+                        nearer(best, limit, index, ray, t);
+                    }
+                }
+            }
+            (_, Some(object)) => {
+                for (best, limit, ray) in lanes {
+                    if let Some(t) = object.hits(ray, *limit) {
+                        nearer(best, limit, index, ray, t);
+                    }
+                }
+            }
+            (_, None) => {}
+        }
+    }
+    if let (true, Some(tree)) = (cfg!(feature = "plan"), tree) {
+        let no_unbounded = Tree {
+            unbounded: &[],
+            ..*tree
+        };
+        for ((best, limit), ray) in hits.iter_mut().zip(limits).zip(rays) {
+            let Some(ray) = ray else { continue };
+            let mut nearest = Nearest { best: *best, limit };
+            search_tree(objects, &no_unbounded, ray, None, z_limit, &mut nearest);
+            *best = nearest.best;
+        }
+    }
+}
+
 /// The plane a row's prepared tests put at one `t` for every primary ray of the row, the
 /// nearest such ([`RowTest::At`], ties to the first), and whether other objects of the row
 /// are tested ray by ray ([`RowTest::Hits`]: they may be nearer for some rays). Without

@@ -15,7 +15,7 @@
 
 use super::{MAX_DEPTH, Onward, Shader, mirror_ray, through_ray, with_behind, with_mirror};
 use crate::material::Material;
-use crate::object::{Hit, RowEntry, Surface, closest_hit_among, closest_hit_in_row};
+use crate::object::{Hit, RowEntry, Surface, closest_hit_among, closest_hits_in_row};
 use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;
@@ -51,15 +51,16 @@ impl<S: Scalar> Shader<'_, S> {
         out: &mut [Vec3<S>; BATCH],
     ) {
         let mut lanes = [None; BATCH];
-        // The tests read each ray where it was made a while ago, not from a copy just
-        // written (a load from stores still in flight waits for them).
-        for (lane, ray) in lanes.iter_mut().zip(rays) {
-            *lane = ray.as_ref().map(|ray| Lane {
-                ray: *ray,
+        let mut hits = [None; BATCH];
+        let tree = self.tree();
+        closest_hits_in_row(self.objects, row, tree, rays, self.z_limit, &mut hits);
+        for ((lane, ray), hit) in lanes.iter_mut().zip(rays).zip(hits) {
+            *lane = ray.map(|ray| Lane {
+                ray,
                 left: None,
                 total: S::ZERO,
                 depth: 0,
-                hit: closest_hit_in_row(self.objects, row, self.tree(), ray, self.z_limit),
+                hit,
             });
         }
         self.shade_lanes(&lanes, out);

@@ -335,3 +335,32 @@ fn render_with_threads_writes_the_one_thread_image() {
     assert_eq!(zero.status.code(), Some(2));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn render_over_an_existing_file_leaves_exactly_the_new_image() {
+    let dir = std::env::temp_dir().join(format!("microray-cli-over-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/vases.txt");
+    let render = |out: &Path| {
+        let run = microray(&[
+            "render",
+            scene.to_str().unwrap(),
+            "-q",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(run.status.success(), "{}", text(&run.stderr));
+        std::fs::read(out).unwrap()
+    };
+    for ext in ["ppm", "png"] {
+        let fresh = render(&dir.join(format!("fresh.{ext}")));
+        assert!(fresh.len() > 1000);
+        // Written over a longer file (the tail must go) and over a shorter one.
+        for old_len in [fresh.len() * 3, 10] {
+            let over = dir.join(format!("over-{old_len}.{ext}"));
+            std::fs::write(&over, vec![0xa5; old_len]).unwrap();
+            assert!(render(&over) == fresh, "{ext} over {old_len} bytes");
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

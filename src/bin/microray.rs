@@ -8,6 +8,7 @@ use microray::parse::parse_scene;
 use microray::print::print_scene;
 use microray::render::{Antialias, Pattern, Renderer, Samples, Shading};
 use microray::scalar::I16F16;
+use std::io::{Seek, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -514,13 +515,35 @@ fn write_image(image: &Framebuffer, format: Format, output: &Path) -> Result<(),
         |e: std::io::Error| format!("{}: error: cannot write: {e}", output.display());
     match format {
         // Straight from the framebuffer: no copy of the image first.
-        Format::Ppm => image.write_ppm(std::fs::File::create(output).map_err(cannot_write)?),
+        Format::Ppm => write_over(output, |file| image.write_ppm(file)),
         Format::Png => {
             let bytes = image
                 .to_png()
                 .map_err(|e| format!("{}: error: PNG encoding failed: {e}", output.display()))?;
-            std::fs::write(output, bytes)
+            write_over(output, |file| file.write_all(&bytes))
         }
     }
     .map_err(cannot_write)
+}
+
+/// Writes a file with `write`, over what it held: an existing file is cut to the new length
+/// after the writing, not emptied before it (emptying it first frees its pages and blocks
+/// only for the writing to take new ones: a millisecond for a 640x480 PPM, a twentieth of
+/// a render).
+fn write_over(
+    output: &Path,
+    write: impl FnOnce(&mut std::fs::File) -> std::io::Result<()>,
+) -> std::io::Result<()> {
+    let mut file = std::fs::OpenOptions::new()
+        .write(true)
+        .create(true)
+        .truncate(false)
+        .open(output)?;
+    write(&mut file)?;
+    // Only a regular file has a length to set (not a pipe or a terminal).
+    if file.metadata()?.is_file() {
+        let written = file.stream_position()?;
+        file.set_len(written)?;
+    }
+    Ok(())
 }

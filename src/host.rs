@@ -239,7 +239,8 @@ const BAND_ROWS: usize = 8;
 /// rows from a shared queue until none is left: the same pixels as one thread, since every
 /// row depends on the scene alone (an area of the image renders the image's pixels there).
 /// `aa` anti-aliases (see [`crate::render::Antialias`]); `on_row` runs after each row, on
-/// the thread that drew it.
+/// the thread that drew it. With more than one thread, the bands are rendered by new
+/// threads, each pinned to a core of its own when there are at least as many cores.
 ///
 /// The library's row API is all it needs: a firmware author with two cores (an RP2040)
 /// splits rows the same way, each core rendering its own areas into the panel.
@@ -299,10 +300,30 @@ pub fn render_parallel<S: crate::Scalar, const OBJECTS: usize>(
         }
         Ok(())
     };
+    if threads == 1 {
+        work()?;
+        return Ok(image);
+    }
+    // One core each, when there is a core for each: a new thread otherwise often starts on
+    // the core of the thread that made it, and the two share it until the scheduler moves
+    // one (milliseconds: much of a 20 ms render). The calling thread only waits, so its
+    // own affinity is left as it was.
+    let cores = core_affinity::get_core_ids()
+        .filter(|cores| cores.len() >= threads)
+        .unwrap_or_default();
     std::thread::scope(|scope| {
-        let workers: Vec<_> = (1..threads).map(|_| scope.spawn(work)).collect();
-        // This thread works too.
-        let mut result = work();
+        let workers: Vec<_> = (0..threads)
+            .map(|k| {
+                let core = cores.get(k).copied();
+                scope.spawn(move || {
+                    if let Some(core) = core {
+                        core_affinity::set_for_current(core);
+                    }
+                    work()
+                })
+            })
+            .collect();
+        let mut result = Ok(());
         for worker in workers {
             match worker.join() {
                 Ok(done) => result = result.and(done),

@@ -74,7 +74,7 @@ impl<S: Scalar> Iterator for RowRays<S> {
 impl<S: Scalar> RowRays<S> {
     /// The next `out.len()` rays into `out` (`None` past the row's end), as as many calls
     /// of [`next`](Iterator::next) give them, bit for bit. In `f64` a batch's divisions
-    /// and square roots are done side by side ([`crate::lanes`]).
+    /// and square roots are done side by side (`src/lanes.rs`).
     #[inline]
     pub fn next_batch(&mut self, out: &mut [Option<Ray<S>>]) {
         const BATCH: usize = crate::shade::BATCH;

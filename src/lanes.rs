@@ -1,8 +1,8 @@
 //! `f64` arithmetic across a batch's lanes (feature `batch`): the same IEEE operations in
 //! the same order as each lane's own `f64` code, written as loops over arrays so that the
-//! compiler packs them (two lanes an instruction with SSE2, four with AVX). A division or a
-//! square root costs the divider the same time packed as alone, so a packed one does two or
-//! four lanes' for the price of one; the results are the same bits.
+//! compiler packs them (two lanes an instruction with SSE2, four in a build for AVX). A
+//! division or a square root costs the divider the same time packed as alone, so a packed
+//! one does two or four lanes' for the price of one; the results are the same bits.
 
 use crate::shade::BATCH;
 

@@ -610,12 +610,13 @@ pub fn closest_hit_in_row<S: Scalar>(
     best
 }
 
-/// [`closest_hit_in_row`] for the primary rays of a row shaded together (`None` where there
-/// is no ray), into `hits`: the row's entries in the outer loop and the rays in the inner
-/// one, so that the rays' tests of one object run side by side. Each ray meets the entries
-/// in the same order with the same limits, so the same hits (tests/plan.rs).
+/// [`closest_hit_in_row`] for up to [`BATCH`](crate::shade::BATCH) primary rays of a row
+/// shaded together (`None` where there is no ray), into `hits`: the row's entries in the
+/// outer loop and the rays in the inner one, so that the rays' tests of one object run side
+/// by side. Each ray meets the entries in the same order with the same limits, so the same
+/// hits (tests/plan.rs).
 #[cfg(feature = "batch")]
-pub fn closest_hits_in_row<S: Scalar>(
+pub(crate) fn closest_hits_in_row<S: Scalar>(
     objects: &[Object<S>],
     row: &[RowEntry<S>],
     tree: Option<&Tree<'_, S>>,

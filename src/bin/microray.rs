@@ -429,13 +429,13 @@ fn render<S: Scalar>(path: &Path, output: &Path, options: &Options) -> Result<()
         .with_shading(options.shading)
         .with_plan(options.planned);
     let size = renderer.size();
-    let mut image = Framebuffer::new(size);
-    let mut row = vec![Default::default(); size.width as usize];
     let start = Instant::now();
-    if options.progressive {
+    let mut image = if options.progressive {
         if options.aa.is_some() {
             return Err("error: --aa and --progressive cannot be combined (the progressive order traces one ray a pixel)".into());
         }
+        let mut image = Framebuffer::new(size);
+        let mut row = vec![Default::default(); size.width as usize];
         for (pass, block) in microray::render::BLOCKS.iter().enumerate() {
             renderer
                 .render_pass(&mut image, &mut row, pass)
@@ -449,6 +449,7 @@ fn render<S: Scalar>(path: &Path, output: &Path, options: &Options) -> Result<()
                 write_image(&image, format, &preview)?;
             }
         }
+        image
     } else {
         // Only renders that take more than a moment get a bar.
         let bar: std::sync::OnceLock<ProgressBar> = std::sync::OnceLock::new();
@@ -478,8 +479,9 @@ fn render<S: Scalar>(path: &Path, output: &Path, options: &Options) -> Result<()
         if let Some(b) = bar.get() {
             b.finish_and_clear();
         }
-        image = rendered.map_err(|e| format!("{}: error: {e}", path.display()))?;
-    }
+        // The framebuffer is render_parallel's own: none is made here for it to replace.
+        rendered.map_err(|e| format!("{}: error: {e}", path.display()))?
+    };
     to_depth(&mut image, options.depth);
     write_image(&image, format, output)?;
     if !quiet {

@@ -441,6 +441,26 @@ impl<S: Scalar> Nearest<S> {
             self.limit = t;
         }
     }
+
+    /// Takes a row test's `t` (the z rule already applied) if it is nearer: the objects of
+    /// a row's list come in index order, so a tie stays with the earlier one.
+    #[inline]
+    fn take_row_at(&mut self, index: usize, t: S) {
+        if t < self.limit {
+            self.best = Some((index, t));
+            self.limit = t;
+        }
+    }
+
+    /// Takes a hit of `ray` at `t` (below the limit) if the hit point is behind the image
+    /// plane (the point's `z` as `ray.at(t)` computes it).
+    #[inline]
+    fn take_in_front(&mut self, index: usize, t: S, ray: &Ray<S>, z_limit: S) {
+        if ray.base.z + ray.dir.z * t <= z_limit {
+            self.best = Some((index, t));
+            self.limit = t;
+        }
+    }
 }
 
 impl<S: Scalar> Among<'_, S> {
@@ -568,17 +588,16 @@ pub fn closest_hit_in_row<S: Scalar>(
     ray: &Ray<S>,
     z_limit: S,
 ) -> Option<(usize, S)> {
-    let mut best = None;
-    let mut limit = S::UNBOUNDED;
+    let mut nearest = Nearest {
+        best: None,
+        limit: S::UNBOUNDED,
+    };
     for entry in row {
         let index = usize::from(entry.index);
         let found = match &entry.test {
             RowTest::Miss => None,
             RowTest::At(t) => {
-                if *t < limit {
-                    best = Some((index, *t));
-                    limit = *t;
-                }
+                nearest.take_row_at(index, *t);
                 None
             }
             // Only `f64` rows have these (see `Plane::row_test`): the other types' code has
@@ -586,28 +605,36 @@ pub fn closest_hit_in_row<S: Scalar>(
             #[cfg(feature = "plan")]
             RowTest::Plane(distance) if S::COURSE_ORDER => objects
                 .get(index)
-                .and_then(|object| object.hits_from_distance(ray, *distance, limit)),
+                .and_then(|object| object.hits_from_distance(ray, *distance, nearest.limit)),
             _ => objects
                 .get(index)
-                .and_then(|object| object.hits(ray, limit)),
+                .and_then(|object| object.hits(ray, nearest.limit)),
         };
         if let Some(t) = found {
-            if ray.base.z + ray.dir.z * t <= z_limit {
-                best = Some((index, t));
-                limit = t;
-            }
+            nearest.take_in_front(index, t, ray, z_limit);
         }
     }
+    rest_of_row_in_tree(objects, tree, ray, z_limit, &mut nearest);
+    nearest.best
+}
+
+/// The objects of `tree` (not its unbounded ones: a row's list holds those) into the
+/// nearest hit a primary ray found in its row's list.
+#[inline]
+fn rest_of_row_in_tree<S: Scalar>(
+    objects: &[Object<S>],
+    tree: Option<&Tree<'_, S>>,
+    ray: &Ray<S>,
+    z_limit: S,
+    nearest: &mut Nearest<S>,
+) {
     if let (true, Some(tree)) = (cfg!(feature = "plan"), tree) {
-        let mut nearest = Nearest { best, limit };
         let no_unbounded = Tree {
             unbounded: &[],
             ..*tree
         };
-        search_tree(objects, &no_unbounded, ray, None, z_limit, &mut nearest);
-        best = nearest.best;
+        search_tree(objects, &no_unbounded, ray, None, z_limit, nearest);
     }
-    best
 }
 
 /// [`closest_hit_in_row`] for up to [`BATCH`](crate::shade::BATCH) primary rays of a row
@@ -624,64 +651,46 @@ pub(crate) fn closest_hits_in_row<S: Scalar>(
     z_limit: S,
     hits: &mut [Option<(usize, S)>],
 ) {
-    const LANES: usize = crate::shade::BATCH;
-    let mut limits = [S::UNBOUNDED; LANES];
-    for hit in hits.iter_mut() {
-        *hit = None;
-    }
-    let nearer = |best: &mut Option<(usize, S)>, limit: &mut S, index: usize, ray: &Ray<S>, t| {
-        if ray.base.z + ray.dir.z * t <= z_limit {
-            *best = Some((index, t));
-            *limit = t;
-        }
-    };
+    let mut nearest = [Nearest {
+        best: None,
+        limit: S::UNBOUNDED,
+    }; crate::shade::BATCH];
     for entry in row {
         let index = usize::from(entry.index);
-        let lanes = hits
+        let lanes = nearest
             .iter_mut()
-            .zip(limits.iter_mut())
             .zip(rays)
-            .filter_map(|((best, limit), ray)| Some((best, limit, ray.as_ref()?)));
-        let object = objects.get(index);
-        match (&entry.test, object) {
+            .filter_map(|(nearest, ray)| Some((nearest, ray.as_ref()?)));
+        match (&entry.test, objects.get(index)) {
             (RowTest::Miss, _) => {}
             (RowTest::At(t), _) => {
-                for (best, limit, _) in lanes {
-                    if *t < *limit {
-                        *best = Some((index, *t));
-                        *limit = *t;
-                    }
+                for (nearest, _) in lanes {
+                    nearest.take_row_at(index, *t);
                 }
             }
             #[cfg(feature = "plan")]
             (RowTest::Plane(distance), Some(object)) if S::COURSE_ORDER => {
-                for (best, limit, ray) in lanes {
-                    if let Some(t) = object.hits_from_distance(ray, *distance, *limit) {
-                        nearer(best, limit, index, ray, t);
+                for (nearest, ray) in lanes {
+                    if let Some(t) = object.hits_from_distance(ray, *distance, nearest.limit) {
+                        nearest.take_in_front(index, t, ray, z_limit);
                     }
                 }
             }
             (_, Some(object)) => {
-                for (best, limit, ray) in lanes {
-                    if let Some(t) = object.hits(ray, *limit) {
-                        nearer(best, limit, index, ray, t);
+                for (nearest, ray) in lanes {
+                    if let Some(t) = object.hits(ray, nearest.limit) {
+                        nearest.take_in_front(index, t, ray, z_limit);
                     }
                 }
             }
             (_, None) => {}
         }
     }
-    if let (true, Some(tree)) = (cfg!(feature = "plan"), tree) {
-        let no_unbounded = Tree {
-            unbounded: &[],
-            ..*tree
-        };
-        for ((best, limit), ray) in hits.iter_mut().zip(limits).zip(rays) {
-            let Some(ray) = ray else { continue };
-            let mut nearest = Nearest { best: *best, limit };
-            search_tree(objects, &no_unbounded, ray, None, z_limit, &mut nearest);
-            *best = nearest.best;
+    for ((hit, nearest), ray) in hits.iter_mut().zip(&mut nearest).zip(rays) {
+        if let Some(ray) = ray {
+            rest_of_row_in_tree(objects, tree, ray, z_limit, nearest);
         }
+        *hit = nearest.best;
     }
 }
 

@@ -67,6 +67,8 @@ impl<S: Scalar> Plane<S> {
     /// parallel (`N.dir == 0`), when `t <= 0`, or when `t` is not below `limit`.
     #[inline]
     pub fn nearest(&self, ray: &Ray<S>, limit: S) -> Option<S> {
+        // Mostly a shadow ray made a moment ago: see `LOAD_APART`.
+        let ray = ray.read_apart();
         let n_dot_dir = S::dot_unit(ray.dir, self.unit_normal);
         let distance = self.n_dot_point - S::dot_unit(ray.base, self.unit_normal);
         // No division for planes behind the ray or beyond `limit`, nor when the ray is

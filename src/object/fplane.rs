@@ -112,7 +112,14 @@ impl<S: Scalar> Rect<S> {
     #[inline]
     pub fn nearest(&self, ray: &Ray<S>, limit: S) -> Option<S> {
         let t = self.plane.nearest_by_axis(ray, limit)?;
-        let [qx, qy] = self.local(ray.at(t));
+        // The plane test read the ray one component a load (see `Ray::read_apart`) unless
+        // it read one coordinate off an axis.
+        let point = if self.plane.reads_one_axis() {
+            ray.read_apart().at(t)
+        } else {
+            ray.at(t)
+        };
+        let [qx, qy] = self.local(point);
         let [w, h] = self.dimensions;
         (qx >= S::ZERO && qx <= w && qy >= S::ZERO && qy <= h).then_some(t)
     }

@@ -87,6 +87,12 @@ impl<S: Scalar> Plane<S> {
         }
     }
 
+    /// Whether [`nearest_by_axis`](Self::nearest_by_axis) reads one coordinate.
+    #[inline]
+    pub fn reads_one_axis(&self) -> bool {
+        self.axis.is_some() && S::AXIS_READS
+    }
+
     /// `N.point - N.base`: the part of [`nearest_by_axis`](Self::nearest_by_axis) that
     /// rays from one point share (a row's primary rays, from the eye), computed as it does
     /// (see [`nearest_from`](Self::nearest_from)).

@@ -282,8 +282,9 @@ pub fn plane_surface<'s, S: Scalar>(
     palette: &Palette<'s, S>,
     ray: &Ray<S>,
     t: S,
-) -> Option<Surface<'s, S>> {
-    object_surface(obj, palette, ray, t, plane_normal)
+    out: &mut Option<Surface<'s, S>>,
+) {
+    object_surface(obj, palette, ray, t, plane_normal, out);
 }
 
 /// `row_test` of the infinite plane kinds (plane, tiled plane).

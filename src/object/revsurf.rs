@@ -520,8 +520,9 @@ pub fn revsurf_surface<'s, S: Scalar>(
     palette: &Palette<'s, S>,
     ray: &Ray<S>,
     t: S,
-) -> Option<Surface<'s, S>> {
-    object_surface(obj, palette, ray, t, revsurf_normal)
+    out: &mut Option<Surface<'s, S>>,
+) {
+    object_surface(obj, palette, ray, t, revsurf_normal, out);
 }
 
 /// `printer` of a surface of revolution.

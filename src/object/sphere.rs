@@ -166,8 +166,9 @@ pub fn sphere_surface<'s, S: Scalar>(
     palette: &Palette<'s, S>,
     ray: &Ray<S>,
     t: S,
-) -> Option<Surface<'s, S>> {
-    object_surface(obj, palette, ray, t, sphere_normal)
+    out: &mut Option<Surface<'s, S>>,
+) {
+    object_surface(obj, palette, ray, t, sphere_normal, out);
 }
 
 /// `normal` of a sphere.

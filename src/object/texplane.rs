@@ -1,8 +1,8 @@
 //! The textured plane: a rectangle whose ambient and diffuse colours are multiplied by an
 //! image.
 
-use super::plane::{plane_normal, plane_surface};
-use super::{Hit, Object, ObjectVTable, Palette, Shape, Surface, object_material};
+use super::plane::plane_normal;
+use super::{Hit, Object, ObjectVTable, Palette, Shape, Surface, object_material, object_surface};
 use crate::error::{Entity, ErrorKind};
 use crate::material::MaterialId;
 use crate::object::fplane::{Rect, RectDef};
@@ -131,17 +131,14 @@ pub fn texplane_surface<'s, S: Scalar>(
     palette: &Palette<'s, S>,
     ray: &Ray<S>,
     t: S,
-) -> Option<Surface<'s, S>> {
-    let surface = plane_surface(obj, palette, ray, t)?;
-    let Shape::TexPlane(textured) = obj.shape() else {
-        return Some(surface);
-    };
-    let texel = textured.texel(palette, &surface.hit);
-    Some(Surface {
-        ambient: surface.ambient.mul_each(texel),
-        diffuse: surface.diffuse.mul_each(texel),
-        ..surface
-    })
+    out: &mut Option<Surface<'s, S>>,
+) {
+    object_surface(obj, palette, ray, t, plane_normal, out);
+    if let (Some(surface), Shape::TexPlane(textured)) = (out, obj.shape()) {
+        let texel = textured.texel(palette, &surface.hit);
+        surface.ambient = surface.ambient.mul_each(texel);
+        surface.diffuse = surface.diffuse.mul_each(texel);
+    }
 }
 
 /// `printer` of a textured plane.

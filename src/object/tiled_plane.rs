@@ -121,14 +121,21 @@ pub fn tiled_plane_surface<'s, S: Scalar>(
     palette: &Palette<'s, S>,
     ray: &Ray<S>,
     t: S,
-) -> Option<Surface<'s, S>> {
+    out: &mut Option<Surface<'s, S>>,
+) {
     let point = ray.at(t);
     let hit = Hit {
         t,
         point,
         normal: plane_normal(obj, point),
     };
-    surface_of(hit, palette.material(tiled_plane_material(obj, point))?)
+    // The surface written on its own path (a `None` sharing the stores would take the
+    // record through a temporary).
+    let Some(material) = palette.material(tiled_plane_material(obj, point)) else {
+        *out = None;
+        return;
+    };
+    *out = surface_of(hit, material);
 }
 
 /// `printer` of a tiled plane.

@@ -881,7 +881,10 @@ mod tests {
             for y in [1.0, 2.5, 20.0, 50.0, 200.0, 250.0] {
                 let (ours, reference) = (x.pow_positive(y), libm::pow(x, y));
                 let ulps = ours.to_bits().abs_diff(reference.to_bits());
-                assert!(ulps <= 1, "{x:e}^{y}: {ours:e} against libm's {reference:e}");
+                assert!(
+                    ulps <= 1,
+                    "{x:e}^{y}: {ours:e} against libm's {reference:e}"
+                );
                 differ += usize::from(ulps != 0);
             }
         }

@@ -15,7 +15,7 @@
 
 use super::{MAX_DEPTH, Onward, Shader, mirror_ray, through_ray, with_behind, with_mirror};
 use crate::material::Material;
-use crate::object::plane::plane_normal;
+use crate::object::plane::plane_surface;
 use crate::object::{Hit, RowEntry, Surface, closest_hit_among, closest_hits_in_row};
 use crate::ray::Ray;
 use crate::scalar::Scalar;
@@ -103,24 +103,13 @@ impl<S: Scalar> Shader<'_, S> {
                 continue;
             };
             if let Some(object) = self.objects.get(index) {
-                // A plain plane's record built here, in place (every plane's table holds
-                // the same look-up): one returned from the table is copied in pieces that
-                // the processor cannot forward to the loads that read it back (30 % of
-                // this stage's time in spec0).
-                if !object.surface_is_uniform() {
-                    *surface = object.surface(&self.palette, &lane.ray, t);
-                } else if let Some(material) = self.palette.material(object.material()) {
-                    let point = lane.ray.at(t);
-                    *surface = Some(Surface {
-                        hit: Hit {
-                            t,
-                            point,
-                            normal: plane_normal(object, point),
-                        },
-                        material,
-                        ambient: material.ambient,
-                        diffuse: material.diffuse,
-                    });
+                // Written where it stays (see `ObjectVTable::surface`); a plain plane's
+                // look-up called directly (every plane's table holds it), so that it is
+                // inlined.
+                if object.surface_is_uniform() {
+                    plane_surface(object, &self.palette, &lane.ray, t, surface);
+                } else {
+                    object.surface_into(&self.palette, &lane.ray, t, surface);
                 }
             }
         }

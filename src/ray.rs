@@ -58,14 +58,9 @@ impl<S: Scalar> Ray<S> {
         if !LOAD_APART {
             return *self;
         }
-        // `black_box` keeps the compiler from merging the loads (the values are the same).
-        let apart = |v: &Vec3<S>| {
-            use core::hint::black_box;
-            Vec3::new(black_box(v.x), black_box(v.y), black_box(v.z))
-        };
         Self {
-            base: apart(&self.base),
-            dir: apart(&self.dir),
+            base: self.base.read_apart(),
+            dir: self.dir.read_apart(),
             len: self.len,
         }
     }

@@ -22,6 +22,18 @@ impl<S> Vec3<S> {
 }
 
 impl<S: Scalar> Vec3<S> {
+    /// The same vector with each component read by a load of its own where that pays (see
+    /// [`LOAD_APART`](crate::ray::LOAD_APART)): for a vector written a moment ago.
+    #[inline(always)]
+    pub(crate) fn read_apart(&self) -> Self {
+        if !crate::ray::LOAD_APART {
+            return *self;
+        }
+        // `black_box` keeps the compiler from merging the loads (the values are the same).
+        use core::hint::black_box;
+        Self::new(black_box(self.x), black_box(self.y), black_box(self.z))
+    }
+
     /// The zero vector (black, as a colour).
     pub const ZERO: Self = Self::new(S::ZERO, S::ZERO, S::ZERO);
 

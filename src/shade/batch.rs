@@ -164,24 +164,45 @@ impl<S: Scalar> Shader<'_, S> {
             *c = surface.ambient;
         }
         if self.stages.illumination {
-            for light in self.lights {
-                for (c, lane, surface, onward) in lit(out, lanes, surfaces, onward) {
-                    let material = surface.material;
-                    *c = *c
-                        + self.illuminate(
-                            light,
-                            onward.index,
-                            &surface.hit,
-                            lane.ray.base,
-                            surface.diffuse,
-                            material.specular,
-                            material.shininess,
-                        );
-                }
+            // Two copies of the loop, the common one without the walk through transparent
+            // objects (it would take registers from the loop).
+            if self.filters_shadows() {
+                self.add_lights(lanes, surfaces, onward, out, true);
+            } else {
+                self.add_lights(lanes, surfaces, onward, out, false);
             }
         }
         for (c, _, _, onward) in lit(out, lanes, surfaces, onward) {
             *c = *c / onward.total;
+        }
+    }
+
+    /// Adds every light's diffuse and glint to each shaded lane's colour in `out`, the
+    /// lights in the outer loop (see [`own_lights`](Self::own_lights)).
+    #[inline(always)]
+    fn add_lights(
+        &self,
+        lanes: &[Option<Lane<S>>; BATCH],
+        surfaces: &[Option<Surface<'_, S>>; BATCH],
+        onward: &[Option<Onward<S>>; BATCH],
+        out: &mut [Vec3<S>; BATCH],
+        filtered: bool,
+    ) {
+        for light in self.lights {
+            for (c, lane, surface, onward) in lit(out, lanes, surfaces, onward) {
+                let material = surface.material;
+                *c = *c
+                    + self.illuminate(
+                        light,
+                        onward.index,
+                        &surface.hit,
+                        lane.ray.base,
+                        surface.diffuse,
+                        material.specular,
+                        material.shininess,
+                        filtered,
+                    );
+            }
         }
     }
 

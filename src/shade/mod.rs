@@ -331,6 +331,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
             return c;
         }
         let material = surface.material;
+        let filtered = self.filters_shadows();
         for light in self.lights {
             c = c + self.illuminate(
                 light,
@@ -340,14 +341,26 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 surface.diffuse,
                 material.specular,
                 material.shininess,
+                filtered,
             );
         }
         c
     }
 
+    /// Whether shadow rays pass through transparent objects, taking their filters.
+    #[inline(always)]
+    fn filters_shadows(&self) -> bool {
+        cfg!(feature = "transparency") && self.stages.shadows && self.stages.filtered_shadows
+    }
+
     /// One light's diffuse and glint at a hit; black when the light is behind the surface,
-    /// outside a spotlight's cone, or blocked by an opaque object.
+    /// outside a spotlight's cone, or blocked by an opaque object. `filtered` is
+    /// [`filters_shadows`](Self::filters_shadows), passed in so that a caller can have a
+    /// copy without the walk through transparent objects where the scene has none (always
+    /// inlined: called out of line, it would wait for each light's long chain of square root
+    /// and divisions before the next lane's could start).
     #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
     fn illuminate(
         &self,
         light: &Light<S>,
@@ -357,6 +370,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         diffuse: Vec3<S>,
         specular: Vec3<S>,
         shininess: S,
+        filtered: bool,
     ) -> Vec3<S> {
         let to_light = light.location - hit.point;
         let distance = to_light.length();
@@ -387,7 +401,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
             },
         };
         let mut lit = diffuse.mul_each(emissivity);
-        if cfg!(feature = "transparency") && self.stages.shadows && self.stages.filtered_shadows {
+        if filtered {
             let Some(filter) = self.shadow_filter(hit.point, l, distance, index) else {
                 return Vec3::ZERO;
             };
@@ -467,7 +481,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
             return None;
         }
         let mut lit = surface.diffuse.mul_each(light.diffuse_emissivity);
-        if cfg!(feature = "transparency") && self.stages.shadows && self.stages.filtered_shadows {
+        if self.filters_shadows() {
             lit = lit.mul_each(self.shadow_filter(hit.point, to_light, S::ONE, index)?);
         } else if self.stages.shadows && self.blocked(hit.point, to_light, index, light) {
             return None;
@@ -535,6 +549,10 @@ impl<'s, S: Scalar> Shader<'s, S> {
 
     /// Walks from `from` towards a light `distance` away along `l`: `None` when an opaque
     /// object is in the way, else the product of the transparent objects' filters.
+    /// Inlined into the batch's copy of the lights' loop (see [`illuminate`](Self::illuminate)),
+    /// where the call's by-value vectors would go through memory; the firmware's calls stay
+    /// out of line (flash).
+    #[cfg_attr(feature = "batch", inline(always))]
     fn shadow_filter(
         &self,
         from: Vec3<S>,

@@ -234,8 +234,9 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let Some(object) = self.objects.get(index) else {
             return Vec3::ZERO;
         };
-        // Borrowed where the look-up wrote it, not moved out of the `Option`.
-        let found = object.surface(&self.palette, ray, t);
+        // Written here by the look-up and borrowed where it is, not moved.
+        let mut found = None;
+        object.surface_into(&self.palette, ray, t, &mut found);
         let Some(surface) = found.as_ref() else {
             return Vec3::ZERO;
         };

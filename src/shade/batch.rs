@@ -55,6 +55,11 @@ impl<S: Scalar> Shader<'_, S> {
         let mut hits = [None; BATCH];
         let tree = self.tree();
         closest_hits_in_row(self.objects, row, tree, rays, self.z_limit, &mut hits);
+        if hits.iter().all(Option::is_none) {
+            // Nothing met (the sky of a scene): black, as the stages would leave it.
+            *out = [Vec3::ZERO; BATCH];
+            return;
+        }
         for ((lane, ray), hit) in lanes.iter_mut().zip(rays).zip(hits) {
             *lane = ray.map(|ray| Lane {
                 ray,

@@ -416,6 +416,14 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
             // hundreds of bytes, over its 64 KiB).
             if self.prepare_row(camera_y, &rays, &mut tests) {
                 match self.row_shading(&shader, &tests, &rays) {
+                    // No object in the row (a scene's sky): every pixel black, with no ray
+                    // made (the host's; the firmware keeps its flash).
+                    #[cfg(feature = "batch")]
+                    None if self.shading == Shading::Color
+                        && self.plan.in_row(camera_y).next().is_none() =>
+                    {
+                        row.fill(Rgb888::new(0, 0, 0).into());
+                    }
                     // A plane at the same `t` for every ray of the row.
                     Some(shading) => shade_row(&shader, &shading, &tests, rays, row),
                     // Stage by stage on the host (see `shade::batch`).

@@ -114,7 +114,7 @@ impl<S: Scalar> Rect<S> {
         let t = self.plane.nearest_by_axis(ray, limit)?;
         // The plane test read the ray one component a load (see `Ray::read_apart`) unless
         // it read one coordinate off an axis.
-        let point = if self.plane.reads_one_axis() {
+        let point = if self.plane.read_axis().is_some() {
             ray.read_apart().at(t)
         } else {
             ray.at(t)

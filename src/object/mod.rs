@@ -362,17 +362,27 @@ pub fn object_surface<'s, S: Scalar>(
     normal: fn(&Object<S>, Vec3<S>) -> Vec3<S>,
     out: &mut Option<Surface<'s, S>>,
 ) {
-    // The surface written on its own path (a `None` sharing the stores would take the
-    // record through a temporary).
-    let Some(material) = palette.material(obj.material) else {
-        *out = None;
-        return;
-    };
     let point = ray.at(t);
     let hit = Hit {
         t,
         point,
         normal: normal(obj, point),
+    };
+    write_surface(out, hit, palette.material(obj.material));
+}
+
+/// Writes into `out` the surface showing `material` at `hit`, or `None` without a material:
+/// the two on their own paths (a `None` sharing the stores would take the record through a
+/// temporary).
+#[inline]
+pub fn write_surface<'s, S: Scalar>(
+    out: &mut Option<Surface<'s, S>>,
+    hit: Hit<S>,
+    material: Option<&'s Material<S>>,
+) {
+    let Some(material) = material else {
+        *out = None;
+        return;
     };
     *out = surface_of(hit, material);
 }

@@ -81,16 +81,17 @@ impl<S: Scalar> Plane<S> {
     /// tables cannot be chosen by the plane's normal.
     #[inline]
     pub fn nearest_by_axis(&self, ray: &Ray<S>, limit: S) -> Option<S> {
-        match self.axis.filter(|_| S::AXIS_READS) {
+        match self.read_axis() {
             Some(axis) => self.nearest_along(axis / 2, axis % 2 == 1, ray, limit),
             None => self.nearest(ray, limit),
         }
     }
 
-    /// Whether [`nearest_by_axis`](Self::nearest_by_axis) reads one coordinate.
+    /// The axis [`nearest_by_axis`](Self::nearest_by_axis) reads one coordinate off, if
+    /// it does (the normal lies along an axis and the type reads it exactly).
     #[inline]
-    pub fn reads_one_axis(&self) -> bool {
-        self.axis.is_some() && S::AXIS_READS
+    pub fn read_axis(&self) -> Option<u8> {
+        self.axis.filter(|_| S::AXIS_READS)
     }
 
     /// `N.point - N.base`: the part of [`nearest_by_axis`](Self::nearest_by_axis) that
@@ -99,7 +100,7 @@ impl<S: Scalar> Plane<S> {
     #[cfg(feature = "plan")]
     #[inline]
     pub fn distance_from(&self, base: Vec3<S>) -> S {
-        match self.axis.filter(|_| S::AXIS_READS) {
+        match self.read_axis() {
             Some(axis) => {
                 let base = component(base, axis / 2);
                 let base = if axis % 2 == 1 { -base } else { base };
@@ -116,7 +117,7 @@ impl<S: Scalar> Plane<S> {
     #[cfg(feature = "plan")]
     #[inline]
     pub fn nearest_from(&self, distance: S, dir: Vec3<S>, limit: S) -> Option<S> {
-        let n_dot_dir = match self.axis.filter(|_| S::AXIS_READS) {
+        let n_dot_dir = match self.read_axis() {
             Some(axis) => {
                 let dir = component(dir, axis / 2);
                 if axis % 2 == 1 { -dir } else { dir }

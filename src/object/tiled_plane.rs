@@ -1,7 +1,7 @@
 //! The tiled plane: an infinite checkerboard of two materials.
 
 use super::plane::plane_normal;
-use super::{Hit, Object, ObjectVTable, Palette, Shape, Surface, surface_of};
+use super::{Hit, Object, ObjectVTable, Palette, Shape, Surface, write_surface};
 use crate::error::{Entity, ErrorKind};
 use crate::material::MaterialId;
 use crate::object::fplane::{Rect, RectDef};
@@ -129,13 +129,7 @@ pub fn tiled_plane_surface<'s, S: Scalar>(
         point,
         normal: plane_normal(obj, point),
     };
-    // The surface written on its own path (a `None` sharing the stores would take the
-    // record through a temporary).
-    let Some(material) = palette.material(tiled_plane_material(obj, point)) else {
-        *out = None;
-        return;
-    };
-    *out = surface_of(hit, material);
+    write_surface(out, hit, palette.material(tiled_plane_material(obj, point)));
 }
 
 /// `printer` of a tiled plane.

@@ -361,6 +361,22 @@ fn render_over_an_existing_file_leaves_exactly_the_new_image() {
             std::fs::write(&over, vec![0xa5; old_len]).unwrap();
             assert!(render(&over) == fresh, "{ext} over {old_len} bytes");
         }
+        // To a pipe, which cannot be written at an offset: the whole image in order.
+        let pipe = dir.join(format!("pipe.{ext}"));
+        let made = std::process::Command::new("mkfifo").arg(&pipe).status();
+        assert!(made.is_ok_and(|s| s.success()), "mkfifo {}", pipe.display());
+        let reader = {
+            let pipe = pipe.clone();
+            std::thread::spawn(move || std::fs::read(pipe).unwrap())
+        };
+        let run = microray(
+            &["render", scene.to_str().unwrap(), "-q", "-o"]
+                .into_iter()
+                .chain([pipe.to_str().unwrap()])
+                .collect::<Vec<_>>(),
+        );
+        assert!(run.status.success(), "{}", text(&run.stderr));
+        assert!(reader.join().unwrap() == fresh, "{ext} through a pipe");
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -3,8 +3,8 @@
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use microray::Scalar;
-use microray::host::{Framebuffer, HostRenderer, HostScene, texture_files};
-use microray::parse::parse_scene;
+use microray::host::{Framebuffer, HostRenderer, HostScene, StreamError, texture_files};
+use microray::parse::parse_scene_into;
 use microray::print::print_scene;
 use microray::render::{Antialias, Pattern, Renderer, Samples, Shading};
 use microray::scalar::I16F16;
@@ -161,13 +161,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match &cli.command {
         Command::Check { scene } => check(scene),
-        Command::Print { scene } => load::<f64>(scene).and_then(|s| {
-            let mut text = String::new();
-            print_scene(&s, &mut text)
-                .map_err(|_| format!("{}: error: printing failed", scene.display()))?;
-            print!("{text}");
-            Ok(())
-        }),
+        Command::Print { scene } => print(scene),
         Command::Compile {
             scene,
             output,
@@ -241,8 +235,23 @@ fn main() -> ExitCode {
     }
 }
 
+// Each command is a function of its own, never inlined: a scene in `main`'s frame would be
+// stack that every command faults in.
+#[inline(never)]
+fn print(path: &Path) -> Result<(), String> {
+    let mut s = HostScene::<f64>::empty();
+    load(path, &mut s)?;
+    let mut text = String::new();
+    print_scene(&s, &mut text)
+        .map_err(|_| format!("{}: error: printing failed", path.display()))?;
+    print!("{text}");
+    Ok(())
+}
+
+#[inline(never)]
 fn check(path: &Path) -> Result<(), String> {
-    let s = load::<f64>(path)?;
+    let mut s = HostScene::<f64>::empty();
+    load(path, &mut s)?;
     let cam = s.camera();
     let spots = s.lights().iter().filter(|l| l.spot.is_some()).count();
     println!(
@@ -310,12 +319,15 @@ fn count(n: usize, noun: &str) -> String {
     format!("{n} {noun}{}", if n == 1 { "" } else { "s" })
 }
 
-/// Reads and parses a scene; the error is the full `FILE:LINE:COL: error: ...` line.
-fn load<S: Scalar>(path: &Path) -> Result<HostScene<'static, S>, String> {
+/// Reads and parses a scene into `scene`; the error is the full `FILE:LINE:COL: error: ...`
+/// line. In place, not returned: the scene is 100 KB, and every copy of it on the way out
+/// (the parser's, the `Result`'s) is stack that the process must fault in, 0.1 ms a render.
+#[inline(never)]
+fn load<S: Scalar>(path: &Path, scene: &mut HostScene<'static, S>) -> Result<(), String> {
     let text =
         std::fs::read(path).map_err(|e| format!("{}: error: cannot read: {e}", path.display()))?;
     let dir = path.parent().unwrap_or(Path::new("."));
-    parse_scene(&text, texture_files(dir)).map_err(|e| match e.position {
+    parse_scene_into(&text, texture_files(dir), scene).map_err(|e| match e.position {
         Some(p) => format!(
             "{}:{}:{}: error: {}",
             path.display(),
@@ -335,8 +347,10 @@ fn parse_size(text: &str) -> Result<(u16, u16), String> {
     Ok((number(w)?, number(h)?))
 }
 
+#[inline(never)]
 fn compile<S: Scalar>(path: &Path, output: &Path, size: Option<(u16, u16)>) -> Result<(), String> {
-    let mut scene = load::<S>(path)?;
+    let mut scene = HostScene::<S>::empty();
+    load(path, &mut scene)?;
     if let Some((width, height)) = size {
         scene
             .set_resolution(width, height)
@@ -380,34 +394,28 @@ enum Output {
     Rgb565Dithered,
 }
 
-/// The picture as a panel of `depth` shows it, expanded back to 8 bits per channel.
-fn to_depth(image: &mut Framebuffer, depth: Output) {
-    use embedded_graphics::pixelcolor::{Rgb565, Rgb888};
-    use embedded_graphics::prelude::{DrawTarget, OriginDimensions, Pixel, Point};
+/// Rows of the picture (`top` the first, `width` pixels each, three bytes a pixel) as a
+/// panel of `depth` shows them, expanded back to 8 bits per channel.
+fn to_depth(rgb: &mut [u8], width: usize, top: usize, depth: Output) {
+    use embedded_graphics::pixelcolor::{Rgb565, Rgb888, RgbColor};
+    use embedded_graphics::prelude::Point;
     use microray::dither::{dither_rgb565, truncate_rgb565};
-    if depth == Output::Rgb888 {
+    if depth == Output::Rgb888 || width == 0 {
         return;
     }
-    let width = image.size().width as usize;
-    let pixels: Vec<(Point, Rgb888)> = image
-        .rgb()
-        .chunks(3)
-        .enumerate()
-        .map(|(i, c)| {
-            let p = Point::new((i % width) as i32, (i / width) as i32);
-            (p, Rgb888::new(c[0], c[1], c[2]))
-        })
-        .collect();
-    let converted = pixels.into_iter().map(|(p, c)| {
+    for (i, c) in rgb.chunks_exact_mut(3).enumerate() {
+        let p = Point::new((i % width) as i32, (top + i / width) as i32);
+        let color = Rgb888::new(c[0], c[1], c[2]);
         let panel: Rgb565 = match depth {
-            Output::Rgb565Dithered => dither_rgb565(c, p),
-            _ => truncate_rgb565(c),
+            Output::Rgb565Dithered => dither_rgb565(color, p),
+            _ => truncate_rgb565(color),
         };
-        Pixel(p, Rgb888::from(panel))
-    });
-    let _ = image.draw_iter(converted);
+        let back = Rgb888::from(panel);
+        c.copy_from_slice(&[back.r(), back.g(), back.b()]);
+    }
 }
 
+#[inline(never)]
 fn render<S: Scalar>(path: &Path, output: &Path, options: &Options) -> Result<(), String> {
     let quiet = options.quiet;
     let extension = output
@@ -424,13 +432,14 @@ fn render<S: Scalar>(path: &Path, output: &Path, options: &Options) -> Result<()
             ));
         }
     };
-    let scene = load::<S>(path)?;
+    let mut scene = HostScene::<S>::empty();
+    load(path, &mut scene)?;
     let renderer = Renderer::new(&scene)
         .with_shading(options.shading)
         .with_plan(options.planned);
     let size = renderer.size();
     let start = Instant::now();
-    let mut image = if options.progressive {
+    let image = if options.progressive {
         if options.aa.is_some() {
             return Err("error: --aa and --progressive cannot be combined (the progressive order traces one ray a pixel)".into());
         }
@@ -449,7 +458,8 @@ fn render<S: Scalar>(path: &Path, output: &Path, options: &Options) -> Result<()
                 write_image(&image, format, &preview)?;
             }
         }
-        image
+        let file = open_over(output).map_err(|e| cannot_write(output, e))?;
+        Some((image, file))
     } else {
         // Only renders that take more than a moment get a bar.
         let bar: std::sync::OnceLock<ProgressBar> = std::sync::OnceLock::new();
@@ -474,16 +484,66 @@ fn render<S: Scalar>(path: &Path, output: &Path, options: &Options) -> Result<()
                 b.set_position(done);
             }
         };
-        let rendered =
-            microray::host::render_parallel(&renderer, options.threads, options.aa, progress);
+        let width = size.width as usize;
+        // A PPM to a file is written band by band as the threads finish them, with no image
+        // in memory; other outputs (PNG, a pipe) from a framebuffer.
+        let file = open_over(output).map_err(|e| cannot_write(output, e))?;
+        let regular = file
+            .metadata()
+            .map_err(|e| cannot_write(output, e))?
+            .is_file();
+        let streamed = match format {
+            Format::Ppm if regular => Some(&file),
+            _ => None,
+        };
+        let image = match streamed {
+            Some(file) => {
+                use std::os::unix::fs::FileExt;
+                let header = ppm_header(size.width, size.height);
+                let write_band = |top: usize, pixels: &mut [u8]| {
+                    to_depth(pixels, width, top, options.depth);
+                    file.write_all_at(pixels, (header.len() + top * width * 3) as u64)
+                };
+                file.write_all_at(header.as_bytes(), 0)
+                    .and_then(|()| {
+                        microray::host::render_streamed(
+                            &renderer,
+                            options.threads,
+                            options.aa,
+                            progress,
+                            write_band,
+                        )
+                        .map_err(|e| match e {
+                            StreamError::Write(e) => e,
+                            StreamError::Render(e) => std::io::Error::other(e),
+                        })
+                    })
+                    .and_then(|()| {
+                        file.set_len((header.len() + width * size.height as usize * 3) as u64)
+                    })
+                    .map_err(|e| cannot_write(output, e))?;
+                None
+            }
+            None => {
+                let rendered = microray::host::render_parallel(
+                    &renderer,
+                    options.threads,
+                    options.aa,
+                    progress,
+                );
+                let image = rendered.map_err(|e| format!("{}: error: {e}", path.display()))?;
+                Some((image, file))
+            }
+        };
         if let Some(b) = bar.get() {
             b.finish_and_clear();
         }
-        // The framebuffer is render_parallel's own: none is made here for it to replace.
-        rendered.map_err(|e| format!("{}: error: {e}", path.display()))?
+        image
     };
-    to_depth(&mut image, options.depth);
-    write_image(&image, format, output)?;
+    if let Some((mut image, mut file)) = image {
+        to_depth(image.rgb_mut(), size.width as usize, 0, options.depth);
+        write_image_to(&image, format, &mut file, output)?;
+    }
     if !quiet {
         let order = match options.aa {
             Some(Antialias::Grid(samples)) => format!("{} samples a pixel, ", samples.count()),
@@ -513,35 +573,57 @@ fn render<S: Scalar>(path: &Path, output: &Path, options: &Options) -> Result<()
 
 /// Writes an image in `format` to `output`.
 fn write_image(image: &Framebuffer, format: Format, output: &Path) -> Result<(), String> {
-    let cannot_write =
-        |e: std::io::Error| format!("{}: error: cannot write: {e}", output.display());
+    let mut file = open_over(output).map_err(|e| cannot_write(output, e))?;
+    write_image_to(image, format, &mut file, output)
+}
+
+/// Writes an image in `format` to `file`, opened by [`open_over`] (`output` names it).
+fn write_image_to(
+    image: &Framebuffer,
+    format: Format,
+    file: &mut std::fs::File,
+    output: &Path,
+) -> Result<(), String> {
     match format {
         // Straight from the framebuffer: no copy of the image first.
-        Format::Ppm => write_over(output, |file| image.write_ppm(file)),
+        Format::Ppm => write_over(file, |file| image.write_ppm(file)),
         Format::Png => {
             let bytes = image
                 .to_png()
                 .map_err(|e| format!("{}: error: PNG encoding failed: {e}", output.display()))?;
-            write_over(output, |file| file.write_all(&bytes))
+            write_over(file, |file| file.write_all(&bytes))
         }
     }
-    .map_err(cannot_write)
+    .map_err(|e| cannot_write(output, e))
 }
 
-/// Writes a file with `write`, over what it held: an existing file is cut to the new length
-/// after the writing, not emptied before it (emptying it first frees its pages and blocks
-/// only for the writing to take new ones: a millisecond for a 640x480 PPM, a twentieth of
-/// a render).
-fn write_over(
-    output: &Path,
-    write: impl FnOnce(&mut std::fs::File) -> std::io::Result<()>,
-) -> std::io::Result<()> {
-    let mut file = std::fs::OpenOptions::new()
+fn cannot_write(output: &Path, e: std::io::Error) -> String {
+    format!("{}: error: cannot write: {e}", output.display())
+}
+
+/// `output` opened for writing over what it held: an existing file is cut to the new length
+/// after the writing ([`write_over`]), not emptied before it (emptying it first frees its
+/// pages and blocks only for the writing to take new ones: a millisecond for a 640x480 PPM,
+/// a twentieth of a render).
+fn open_over(output: &Path) -> std::io::Result<std::fs::File> {
+    std::fs::OpenOptions::new()
         .write(true)
         .create(true)
         .truncate(false)
-        .open(output)?;
-    write(&mut file)?;
+        .open(output)
+}
+
+/// Binary PPM's header, as [`Framebuffer::write_ppm`] writes it.
+fn ppm_header(width: u32, height: u32) -> String {
+    format!("P6\n{width} {height} 255\n")
+}
+
+/// Writes `file` (from [`open_over`]) with `write`, then cuts it to what was written.
+fn write_over(
+    file: &mut std::fs::File,
+    write: impl FnOnce(&mut std::fs::File) -> std::io::Result<()>,
+) -> std::io::Result<()> {
+    write(file)?;
     // Only a regular file has a length to set (not a pipe or a terminal).
     if file.metadata()?.is_file() {
         let written = file.stream_position()?;

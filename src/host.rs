@@ -249,8 +249,9 @@ const STREAM_BYTES: usize = 64 * 1024;
 /// rows from a shared queue until none is left: the same pixels as one thread, since every
 /// row depends on the scene alone (an area of the image renders the image's pixels there).
 /// `aa` anti-aliases (see [`crate::render::Antialias`]); `on_row` runs after each row, on
-/// the thread that drew it. With more than one thread, the bands are rendered by new
-/// threads, each pinned to a core of its own when there are at least as many cores.
+/// the thread that drew it. With more than one thread, the calling thread renders bands
+/// too, and each new thread is pinned (on Linux) to a core other than the calling thread's
+/// when there are at least as many cores.
 ///
 /// The library's row API is all it needs: a firmware author with two cores (an RP2040)
 /// splits rows the same way, each core rendering its own areas into the panel.
@@ -262,18 +263,15 @@ pub fn render_parallel<S: crate::Scalar, const OBJECTS: usize>(
 ) -> Result<Framebuffer, crate::render::RenderError<Infallible>> {
     let size = renderer.size();
     let mut image = Framebuffer::new(size);
-    let band_bytes = BAND_ROWS * size.width as usize * 3;
-    if band_bytes == 0 {
-        return Ok(image);
-    }
-    let bands = image
-        .rgb
-        .chunks_mut(band_bytes)
-        .enumerate()
-        .map(|(i, pixels)| (i * BAND_ROWS, Some(pixels)))
-        .collect();
     let never_written = |_: usize, _: &mut [u8]| Ok::<(), Infallible>(());
-    match render_bands(renderer, threads, aa, on_row, bands, never_written) {
+    match render_bands(
+        renderer,
+        threads,
+        aa,
+        on_row,
+        Some(&mut image.rgb),
+        never_written,
+    ) {
         Ok(()) => Ok(image),
         Err(StreamError::Render(e)) => Err(e),
         Err(StreamError::Write(never)) => match never {},
@@ -313,12 +311,7 @@ pub fn render_streamed<S: crate::Scalar, const OBJECTS: usize, E: Send>(
     on_row: impl Fn(crate::render::RowDone) + Sync,
     write: impl Fn(usize, &mut [u8]) -> Result<(), E> + Sync,
 ) -> Result<(), StreamError<E>> {
-    let height = renderer.size().height as usize;
-    let bands = (0..height)
-        .step_by(BAND_ROWS)
-        .map(|top| (top, None))
-        .collect();
-    render_bands(renderer, threads, aa, on_row, bands, write)
+    render_bands(renderer, threads, aa, on_row, None, write)
 }
 
 /// Why [`render_streamed`] stopped short.
@@ -341,15 +334,15 @@ impl<E: core::fmt::Display> core::fmt::Display for StreamError<E> {
 
 impl<E: core::fmt::Debug + core::fmt::Display> std::error::Error for StreamError<E> {}
 
-/// Renders `bands` (first row, and where to draw it: `None` into the thread's own buffer,
-/// handed to `write` when full or no longer followed by the band taken next) on `threads`
-/// threads.
+/// Renders the image on `threads` threads into `image` (a framebuffer's pixels) or, with
+/// `None`, into each thread's own buffer, handed to `write` when full or no longer followed
+/// by the band taken next.
 fn render_bands<S: crate::Scalar, const OBJECTS: usize, E: Send>(
     renderer: &crate::render::Renderer<'_, S, OBJECTS>,
     threads: usize,
     aa: Option<crate::render::Antialias>,
     on_row: impl Fn(crate::render::RowDone) + Sync,
-    bands: Vec<(usize, Option<&mut [u8]>)>,
+    image: Option<&mut [u8]>,
     write: impl Fn(usize, &mut [u8]) -> Result<(), E> + Sync,
 ) -> Result<(), StreamError<E>> {
     use crate::render::{AaPixel, Antialias};
@@ -358,13 +351,22 @@ fn render_bands<S: crate::Scalar, const OBJECTS: usize, E: Send>(
     let size = renderer.size();
     let (width, height) = (size.width as usize, size.height as usize);
     let row_bytes = width * 3;
-    if row_bytes == 0 {
+    if row_bytes == 0 || height == 0 {
         return Ok(());
     }
-    let threads = threads.clamp(1, bands.len().max(1));
-    let queue = std::sync::Mutex::new(bands.into_iter());
-    let next_band = || queue.lock().ok().and_then(|mut bands| bands.next());
-    let own_rows = (STREAM_BYTES / row_bytes / BAND_ROWS).max(1) * BAND_ROWS;
+    let threads = threads.clamp(1, height.div_ceil(BAND_ROWS));
+    let queue = std::sync::Mutex::new(Bands {
+        top: 0,
+        height,
+        row_bytes,
+        rest: image,
+        // The adaptive anti-aliasing renders a row above and below each band: bands of a
+        // fixed size keep that share small.
+        shrink: threads > 1 && !matches!(aa, Some(Antialias::Adaptive { .. })),
+        threads,
+    });
+    let next_band = || queue.lock().ok().and_then(|mut bands| bands.take());
+    let own_rows = (STREAM_BYTES / row_bytes).max(BAND_ROWS);
     let work = || -> Result<(), StreamError<E>> {
         let mut row = vec![Rgb888::BLACK; width];
         let mut aa_buffer = match aa {
@@ -374,8 +376,7 @@ fn render_bands<S: crate::Scalar, const OBJECTS: usize, E: Send>(
         // The thread's own rows not yet handed on: the first, and how many.
         let mut own: Vec<u8> = Vec::new();
         let (mut own_top, mut own_held) = (0, 0);
-        while let Some((top, place)) = next_band() {
-            let rows = BAND_ROWS.min(height - top);
+        while let Some((top, rows, place)) = next_band() {
             let pixels = match place {
                 Some(pixels) => pixels,
                 None => {
@@ -426,34 +427,117 @@ fn render_bands<S: crate::Scalar, const OBJECTS: usize, E: Send>(
     if threads == 1 {
         return work();
     }
-    // One core each, when there is a core for each: a new thread otherwise often starts on
-    // the core of the thread that made it, and the two share it until the scheduler moves
-    // one (milliseconds: much of a 20 ms render). The calling thread only waits, so its
-    // own affinity is left as it was.
-    let cores = core_affinity::get_core_ids()
-        .filter(|cores| cores.len() >= threads)
-        .unwrap_or_default();
+    // The calling thread renders too, and each helper moves to a core of its own (when
+    // there is a core for each) as soon as it starts: a new thread is queued on the core of
+    // the thread that made it, where it would wait 1 to 3 ms (measured) for the scheduler
+    // to move one of the two. Yielding once a helper lets it start and move at once.
+    let cores = cores::others(threads - 1);
     std::thread::scope(|scope| {
-        let workers: Vec<_> = (0..threads)
+        let helpers: Vec<_> = (1..threads)
             .map(|k| {
-                let core = cores.get(k).copied();
+                let core = cores.get(k - 1).copied();
                 scope.spawn(move || {
                     if let Some(core) = core {
-                        core_affinity::set_for_current(core);
+                        cores::move_to(core);
                     }
                     work()
                 })
             })
             .collect();
-        let mut result = Ok(());
-        for worker in workers {
-            match worker.join() {
+        for _ in &helpers {
+            std::thread::yield_now();
+        }
+        let mut result = work();
+        for helper in helpers {
+            match helper.join() {
                 Ok(done) => result = result.and(done),
                 Err(panic) => std::panic::resume_unwind(panic),
             }
         }
         result
     })
+}
+
+/// Where the render threads run.
+#[cfg(target_os = "linux")]
+mod cores {
+    use nix::sched::{CpuSet, sched_getaffinity, sched_getcpu, sched_setaffinity};
+    use nix::unistd::Pid;
+
+    /// The cores this thread may run on, but for the one it is on, if there are at least
+    /// `helpers` of them (otherwise none: the threads share cores, and the scheduler
+    /// places them).
+    pub(super) fn others(helpers: usize) -> Vec<usize> {
+        let this_thread = Pid::from_raw(0);
+        let (Ok(allowed), Ok(here)) = (sched_getaffinity(this_thread), sched_getcpu()) else {
+            return Vec::new();
+        };
+        let others: Vec<usize> = (0..CpuSet::count())
+            .filter(|&core| core != here && allowed.is_set(core).unwrap_or(false))
+            .collect();
+        if others.len() >= helpers {
+            others
+        } else {
+            Vec::new()
+        }
+    }
+
+    /// Moves this thread to `core` for good.
+    pub(super) fn move_to(core: usize) {
+        let mut set = CpuSet::new();
+        if set.set(core).is_ok() {
+            // A thread that cannot move still renders, on a core it shares.
+            let _ = sched_setaffinity(Pid::from_raw(0), &set);
+        }
+    }
+}
+
+/// Where the render threads run: where the scheduler puts them.
+#[cfg(not(target_os = "linux"))]
+mod cores {
+    pub(super) fn others(_helpers: usize) -> Vec<usize> {
+        Vec::new()
+    }
+
+    pub(super) fn move_to(_core: usize) {}
+}
+
+/// The rows not yet rendered, handed out a band at a time.
+struct Bands<'p> {
+    /// The first row not handed out.
+    top: usize,
+    height: usize,
+    row_bytes: usize,
+    /// The framebuffer's pixels from `top` on, if there is a framebuffer.
+    rest: Option<&'p mut [u8]>,
+    /// Whether the last bands are smaller, so that the threads finish together: a band of
+    /// `BAND_ROWS` taken last by one thread while the others have nothing left is a
+    /// sixtieth of a 480-row image that only one core works on.
+    shrink: bool,
+    threads: usize,
+}
+
+impl<'p> Bands<'p> {
+    /// The next band: its first row, its rows and, with a framebuffer, its pixels.
+    fn take(&mut self) -> Option<(usize, usize, Option<&'p mut [u8]>)> {
+        let left = self.height.checked_sub(self.top).filter(|&n| n > 0)?;
+        let rows = if self.shrink {
+            (left / (4 * self.threads)).clamp(1, BAND_ROWS)
+        } else {
+            BAND_ROWS.min(left)
+        };
+        let top = self.top;
+        self.top += rows;
+        let pixels = match self.rest.take() {
+            Some(rest) => {
+                let (band, rest) = rest.split_at_mut((rows * self.row_bytes).min(rest.len()));
+                self.rest = Some(rest);
+                Some(band)
+            }
+            None => None,
+        };
+        Some((top, rows, pixels))
+    }
 }
 
 /// A band of rows of a [`Framebuffer`], drawn into in the image's coordinates (pixels

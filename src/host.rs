@@ -240,9 +240,9 @@ pub fn antialiased<S: crate::Scalar, const OBJECTS: usize>(
 /// and the one below each band) stay a small share.
 const BAND_ROWS: usize = 8;
 
-/// Bytes a thread of [`render_streamed`] gathers before handing them on: consecutive bands
-/// (one thread gets every band) go out together, a few calls (system calls, for a file)
-/// for the image instead of one a band.
+/// Bytes one thread of [`render_streamed`] gathers before handing them on: it gets every
+/// band, so they go out together, a few calls (system calls, for a file) for the image
+/// instead of one a band.
 const STREAM_BYTES: usize = 64 * 1024;
 
 /// The whole image rendered by `threads` threads (at least 1), each taking the next band of
@@ -279,8 +279,9 @@ pub fn render_parallel<S: crate::Scalar, const OBJECTS: usize>(
 }
 
 /// The image of [`render_parallel`], handed on as it is made instead of kept:
-/// `write(first_row, pixels)` gets whole rows, three bytes a pixel, from a buffer of 64 KB
-/// that each thread owns and reuses, and may change them (a panel's colour depth). The
+/// `write(first_row, pixels)` gets whole rows, three bytes a pixel, from a buffer that each
+/// thread owns and reuses (64 KB with one thread, eight rows with more), and may change
+/// them (a panel's colour depth). The
 /// calls come from the rendering threads in no fixed order; each row comes once.
 ///
 /// No image in memory: the host tracer writes a PPM this way with `pwrite`, which saves
@@ -366,7 +367,12 @@ fn render_bands<S: crate::Scalar, const OBJECTS: usize, E: Send>(
         threads,
     });
     let next_band = || queue.lock().ok().and_then(|mut bands| bands.take());
-    let own_rows = (STREAM_BYTES / row_bytes).max(BAND_ROWS);
+    // Threads take turns at the queue, so one thread's bands seldom follow each other: a
+    // band's room is enough (and a fifth of the pages to fault in).
+    let own_rows = match threads {
+        1 => (STREAM_BYTES / row_bytes).max(BAND_ROWS),
+        _ => BAND_ROWS,
+    };
     let work = || -> Result<(), StreamError<E>> {
         let mut row = vec![Rgb888::BLACK; width];
         let mut aa_buffer = match aa {

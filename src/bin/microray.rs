@@ -492,35 +492,34 @@ fn render<S: Scalar>(path: &Path, output: &Path, options: &Options) -> Result<()
             .metadata()
             .map_err(|e| cannot_write(output, e))?
             .is_file();
+        // Writing at an offset is a Unix call (Windows has one that moves the file's cursor).
         let streamed = match format {
-            Format::Ppm if regular => Some(&file),
+            Format::Ppm if regular && cfg!(unix) => Some(&file),
             _ => None,
         };
         let image = match streamed {
             Some(file) => {
-                use std::os::unix::fs::FileExt;
                 let header = ppm_header(size.width, size.height);
                 let write_band = |top: usize, pixels: &mut [u8]| {
                     to_depth(pixels, width, top, options.depth);
-                    file.write_all_at(pixels, (header.len() + top * width * 3) as u64)
+                    write_at(file, pixels, header.len() + top * width * 3)
                 };
-                file.write_all_at(header.as_bytes(), 0)
-                    .and_then(|()| {
-                        microray::host::render_streamed(
-                            &renderer,
-                            options.threads,
-                            options.aa,
-                            progress,
-                            write_band,
-                        )
-                        .map_err(|e| match e {
-                            StreamError::Write(e) => e,
-                            StreamError::Render(e) => std::io::Error::other(e),
-                        })
-                    })
-                    .and_then(|()| {
-                        file.set_len((header.len() + width * size.height as usize * 3) as u64)
-                    })
+                write_at(file, header.as_bytes(), 0).map_err(|e| cannot_write(output, e))?;
+                match microray::host::render_streamed(
+                    &renderer,
+                    options.threads,
+                    options.aa,
+                    progress,
+                    write_band,
+                ) {
+                    Ok(()) => {}
+                    Err(StreamError::Write(e)) => return Err(cannot_write(output, e)),
+                    Err(StreamError::Render(e)) => {
+                        return Err(format!("{}: error: {e}", path.display()));
+                    }
+                }
+                let length = header.len() + width * size.height as usize * 3;
+                file.set_len(length as u64)
                     .map_err(|e| cannot_write(output, e))?;
                 None
             }
@@ -611,6 +610,18 @@ fn open_over(output: &Path) -> std::io::Result<std::fs::File> {
         .create(true)
         .truncate(false)
         .open(output)
+}
+
+/// Writes all of `bytes` at `offset` in `file`, whatever other threads write elsewhere.
+#[cfg(unix)]
+fn write_at(file: &std::fs::File, bytes: &[u8], offset: usize) -> std::io::Result<()> {
+    std::os::unix::fs::FileExt::write_all_at(file, bytes, offset as u64)
+}
+
+/// Not called: streaming is for Unix (see `render`).
+#[cfg(not(unix))]
+fn write_at(_file: &std::fs::File, _bytes: &[u8], _offset: usize) -> std::io::Result<()> {
+    Err(std::io::Error::other("writing at an offset needs Unix"))
 }
 
 /// Binary PPM's header, as [`Framebuffer::write_ppm`] writes it.

@@ -21,6 +21,12 @@ pub fn texture_files(scene_dir: &Path) -> impl FnMut(&str) -> Result<&'static [u
     }
 }
 
+/// Binary PPM's header for an image of `size`: `P6\n{w} {h} 255\n`, the pixels follow
+/// (what [`Framebuffer::write_ppm`] writes first, and a streamed PPM too).
+pub fn ppm_header(size: Size) -> String {
+    format!("P6\n{} {} 255\n", size.width, size.height)
+}
+
 /// Objects a [`HostScene`] holds.
 pub const HOST_OBJECTS: usize = 256;
 
@@ -61,7 +67,7 @@ impl Framebuffer {
 
     /// Binary PPM: `P6\n{w} {h} 255\n` and the pixels.
     pub fn to_ppm(&self) -> Vec<u8> {
-        let mut out = self.ppm_header().into_bytes();
+        let mut out = ppm_header(self.size()).into_bytes();
         out.extend_from_slice(&self.rgb);
         out
     }
@@ -69,13 +75,9 @@ impl Framebuffer {
     /// [`to_ppm`](Self::to_ppm) written to `out` without a copy of the pixels (the header,
     /// then the framebuffer itself: its bytes are the PPM's).
     pub fn write_ppm(&self, mut out: impl std::io::Write) -> std::io::Result<()> {
-        out.write_all(self.ppm_header().as_bytes())?;
+        out.write_all(ppm_header(self.size()).as_bytes())?;
         out.write_all(&self.rgb)?;
         out.flush()
-    }
-
-    fn ppm_header(&self) -> String {
-        format!("P6\n{} {} 255\n", self.width, self.height)
     }
 
     /// PNG, 8-bit RGB.

@@ -499,7 +499,7 @@ fn render<S: Scalar>(path: &Path, output: &Path, options: &Options) -> Result<()
         };
         let image = match streamed {
             Some(file) => {
-                let header = ppm_header(size.width, size.height);
+                let header = microray::host::ppm_header(size);
                 let write_band = |top: usize, pixels: &mut [u8]| {
                     to_depth(pixels, width, top, options.depth);
                     write_at(file, pixels, header.len() + top * width * 3)
@@ -622,11 +622,6 @@ fn write_at(file: &std::fs::File, bytes: &[u8], offset: usize) -> std::io::Resul
 #[cfg(not(unix))]
 fn write_at(_file: &std::fs::File, _bytes: &[u8], _offset: usize) -> std::io::Result<()> {
     Err(std::io::Error::other("writing at an offset needs Unix"))
-}
-
-/// Binary PPM's header, as [`Framebuffer::write_ppm`] writes it.
-fn ppm_header(width: u32, height: u32) -> String {
-    format!("P6\n{width} {height} 255\n")
 }
 
 /// Writes `file` (from [`open_over`]) with `write`, then cuts it to what was written.

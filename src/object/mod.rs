@@ -702,10 +702,26 @@ pub(crate) fn closest_hits_in_row<S: Scalar>(
             }
             #[cfg(feature = "plan")]
             (RowTest::Plane(distance), Some(object)) if S::COURSE_ORDER => {
-                for (nearest, ray) in lanes {
-                    if let Some(t) = object.hits_from_distance(ray, *distance, nearest.limit) {
-                        nearest.take_in_front(index, t, ray, z_limit);
+                // The kind and the plane's axis matched once, each case its own loop.
+                let distance = *distance;
+                match object.shape() {
+                    Shape::Plane(plane) => {
+                        lanes_from_plane(lanes, plane, distance, index, z_limit);
                     }
+                    Shape::TiledPlane(tiled) => {
+                        lanes_from_plane(lanes, &tiled.rect.plane, distance, index, z_limit);
+                    }
+                    Shape::FPlane(rect) => {
+                        each_lane(lanes, index, z_limit, |ray, limit| {
+                            rect.nearest_from(distance, ray, limit)
+                        });
+                    }
+                    Shape::TexPlane(textured) => {
+                        each_lane(lanes, index, z_limit, |ray, limit| {
+                            textured.rect.nearest_from(distance, ray, limit)
+                        });
+                    }
+                    _ => each_lane(lanes, index, z_limit, |ray, limit| object.hits(ray, limit)),
                 }
             }
             (_, Some(object)) => {
@@ -723,6 +739,43 @@ pub(crate) fn closest_hits_in_row<S: Scalar>(
             rest_of_row_in_tree(objects, tree, ray, z_limit, nearest);
         }
         *hit = nearest.best;
+    }
+}
+
+/// Offers each lane's hit of `test` (given the ray and the lane's limit) to the lane.
+#[cfg(all(feature = "batch", feature = "plan"))]
+#[inline(always)]
+fn each_lane<'a, S: Scalar + 'a>(
+    lanes: impl Iterator<Item = (&'a mut Nearest<S>, &'a Ray<S>)>,
+    index: usize,
+    z_limit: S,
+    test: impl Fn(&Ray<S>, S) -> Option<S>,
+) {
+    for (nearest, ray) in lanes {
+        if let Some(t) = test(ray, nearest.limit) {
+            nearest.take_in_front(index, t, ray, z_limit);
+        }
+    }
+}
+
+/// [`each_lane`] for an infinite plane `distance` from the rays' base, with the plane's
+/// axis (if it reads one) chosen once.
+#[cfg(all(feature = "batch", feature = "plan"))]
+#[inline(always)]
+fn lanes_from_plane<'a, S: Scalar + 'a>(
+    lanes: impl Iterator<Item = (&'a mut Nearest<S>, &'a Ray<S>)>,
+    plane: &plane::Plane<S>,
+    distance: S,
+    index: usize,
+    z_limit: S,
+) {
+    match plane.read_axis() {
+        Some(axis) => each_lane(lanes, index, z_limit, |ray, limit| {
+            plane.nearest_from_axis(axis, distance, ray.dir, limit)
+        }),
+        None => each_lane(lanes, index, z_limit, |ray, limit| {
+            plane.nearest_from_leaning(distance, ray.dir, limit)
+        }),
     }
 }
 

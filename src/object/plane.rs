@@ -117,14 +117,33 @@ impl<S: Scalar> Plane<S> {
     #[cfg(feature = "plan")]
     #[inline]
     pub fn nearest_from(&self, distance: S, dir: Vec3<S>, limit: S) -> Option<S> {
-        let n_dot_dir = match self.read_axis() {
-            Some(axis) => {
-                let dir = component(dir, axis / 2);
-                if axis % 2 == 1 { -dir } else { dir }
-            }
-            None => S::dot_unit(dir, self.unit_normal),
-        };
+        match self.read_axis() {
+            Some(axis) => self.nearest_from_axis(axis, distance, dir, limit),
+            None => self.nearest_from_leaning(distance, dir, limit),
+        }
+    }
+
+    /// [`nearest_from`](Self::nearest_from) for a plane whose [`read_axis`](Self::read_axis)
+    /// is `axis`.
+    #[cfg(feature = "plan")]
+    #[inline]
+    pub(crate) fn nearest_from_axis(
+        &self,
+        axis: u8,
+        distance: S,
+        dir: Vec3<S>,
+        limit: S,
+    ) -> Option<S> {
+        let dir = component(dir, axis / 2);
+        let n_dot_dir = if axis % 2 == 1 { -dir } else { dir };
         S::parameter_within(distance, n_dot_dir, limit)
+    }
+
+    /// [`nearest_from`](Self::nearest_from) for a plane that reads no axis.
+    #[cfg(feature = "plan")]
+    #[inline]
+    pub(crate) fn nearest_from_leaning(&self, distance: S, dir: Vec3<S>, limit: S) -> Option<S> {
+        S::parameter_within(distance, S::dot_unit(dir, self.unit_normal), limit)
     }
 
     /// [`nearest`](Self::nearest) for a unit normal of `+1` (`-1` when `negative`) along

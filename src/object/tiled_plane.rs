@@ -115,7 +115,8 @@ pub fn tiled_plane_material<S: Scalar>(obj: &Object<S>, point: Vec3<S>) -> Mater
     }
 }
 
-/// `surface` of a tiled plane: the plane's normal, the material of the tile.
+/// `surface` of a tiled plane: the plane's normal, the material of the tile (the shape
+/// matched once: the kind's table is installed only on tiled planes).
 pub fn tiled_plane_surface<'s, S: Scalar>(
     obj: &Object<S>,
     palette: &Palette<'s, S>,
@@ -123,13 +124,22 @@ pub fn tiled_plane_surface<'s, S: Scalar>(
     t: S,
     out: &mut Option<Surface<'s, S>>,
 ) {
+    let Shape::TiledPlane(tiled) = obj.shape() else {
+        *out = None;
+        return;
+    };
     let point = ray.at(t);
+    let material = if tiled.is_alternate(point) {
+        tiled.altmaterial
+    } else {
+        obj.material()
+    };
     let hit = Hit {
         t,
         point,
-        normal: plane_normal(obj, point),
+        normal: tiled.rect.plane.unit_normal,
     };
-    write_surface(out, hit, palette.material(tiled_plane_material(obj, point)));
+    write_surface(out, hit, palette.material(material));
 }
 
 /// `printer` of a tiled plane.

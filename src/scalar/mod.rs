@@ -470,6 +470,12 @@ impl Scalar for f64 {
             0.0
         }
     }
+    /// Rust's saturating conversion is the rule itself (255 at or above 255, the
+    /// truncation between, 0 at or below 0 and for NaN), without the branches.
+    #[inline]
+    fn to_byte(self) -> u8 {
+        (self * 255.0) as u8
+    }
     #[inline]
     fn floor_to_i32(self) -> i32 {
         floor_by_truncation!(self, f64, libm::floor)
@@ -890,6 +896,37 @@ mod tests {
         }
         // With `std` they are two implementations (which do differ), without one.
         assert_eq!(differ > 0, cfg!(feature = "std"), "{differ} differ");
+    }
+
+    #[test]
+    fn f64_to_byte_is_the_branching_rule() {
+        // The rule as the trait's default writes it.
+        let rule = |c: f64| {
+            let v = c * 255.0;
+            if v >= 255.0 {
+                255
+            } else if v > 0.0 {
+                v as u8
+            } else {
+                0
+            }
+        };
+        let mut values = vec![f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 0.0, -0.0, 1e300];
+        for k in 0..=256 {
+            let c = f64::from(k) / 255.0;
+            values.extend([c, c.next_up(), c.next_down(), -c, c + 1e-9]);
+        }
+        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+        for _ in 0..100_000 {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            values.push(f64::from_bits(seed));
+            values.push((seed >> 11) as f64 / (1u64 << 53) as f64 * 3.0 - 1.0);
+        }
+        for c in values {
+            assert_eq!(Scalar::to_byte(c), rule(c), "{c:e}");
+        }
     }
 
     #[test]

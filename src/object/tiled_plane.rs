@@ -62,10 +62,10 @@ impl<S: Scalar> TiledPlane<S> {
         // parity of K is kept.
         let [w, h] = self.rect.dimensions;
         let [(odd_x, fx), (odd_y, fy)] = self.offset;
-        let ix = (self.rect.u.dot(point) / w + fx).floor_to_i32();
-        let iy = (self.rect.v.dot(point) / h + fy).floor_to_i32();
-        let parity = (ix.wrapping_add(iy) & 1 == 1) ^ odd_x ^ odd_y;
-        !parity
+        // The parity of ix + iy (wrapping) is that of ix xor that of iy.
+        let odd_ix = (self.rect.u.dot(point) / w + fx).floor_is_odd();
+        let odd_iy = (self.rect.v.dot(point) / h + fy).floor_is_odd();
+        !(odd_ix ^ odd_iy ^ odd_x ^ odd_y)
     }
 
     /// The tiled plane kind's function table: the plane's `hits`, and a material look-up

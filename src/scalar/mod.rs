@@ -161,6 +161,11 @@ pub trait Scalar:
     }
     /// The largest integer not above the value, saturated to the `i32` range.
     fn floor_to_i32(self) -> i32;
+    /// Whether [`floor_to_i32`](Self::floor_to_i32) is odd (a tile's parity).
+    #[inline]
+    fn floor_is_odd(self) -> bool {
+        self.floor_to_i32() & 1 == 1
+    }
     /// A whole number.
     fn from_i32(value: i32) -> Self;
     /// `self * numerator / denominator`, for pixel coordinates: in this order for the float
@@ -479,6 +484,21 @@ impl Scalar for f64 {
     #[inline]
     fn floor_to_i32(self) -> i32 {
         floor_by_truncation!(self, f64, libm::floor)
+    }
+    /// Below 2^31 in magnitude, with float additions only: adding 1.5 * 2^52 rounds `v`
+    /// to the nearest integer `r` (exactly, in the last bit of the sum, its parity), and
+    /// `floor(v)` is `r`, or `r - 1` when `r > v`. Elsewhere (and for NaN), the integer
+    /// conversion's saturated floor.
+    #[inline]
+    fn floor_is_odd(self) -> bool {
+        const ROUNDING: f64 = 6_755_399_441_055_744.0;
+        if self.abs() < 2_147_483_648.0 {
+            let sum = self + ROUNDING;
+            let nearest = sum - ROUNDING;
+            (sum.to_bits() & 1 == 1) ^ (nearest > self)
+        } else {
+            self.floor_to_i32() & 1 == 1
+        }
     }
     #[inline]
     fn from_i32(value: i32) -> Self {
@@ -896,6 +916,41 @@ mod tests {
         }
         // With `std` they are two implementations (which do differ), without one.
         assert_eq!(differ > 0, cfg!(feature = "std"), "{differ} differ");
+    }
+
+    #[test]
+    fn f64_floor_is_odd_is_the_floors_parity() {
+        let mut values = vec![f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 0.0, -0.0, 1e300];
+        for base in [
+            0.0,
+            1.0,
+            2.0,
+            3.0,
+            1e6,
+            2_147_483_647.0,
+            2_147_483_648.0,
+            4.5e15,
+        ] {
+            for sign in [1.0, -1.0] {
+                let v: f64 = sign * base;
+                let halves = [v - 0.5, v + 0.5, v - 1.5, v + 1.5];
+                values.extend([v, v.next_up(), v.next_down()]);
+                values.extend(halves);
+                values.extend(halves.map(f64::next_up));
+                values.extend(halves.map(f64::next_down));
+            }
+        }
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        for _ in 0..200_000 {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            values.push(f64::from_bits(seed));
+            values.push((seed >> 11) as f64 / (1u64 << 53) as f64 * 400.0 - 200.0);
+        }
+        for v in values {
+            assert_eq!(v.floor_is_odd(), v.floor_to_i32() & 1 == 1, "{v:e}");
+        }
     }
 
     #[test]

@@ -429,13 +429,13 @@ fn write_rect<S: Scalar>(out: &mut Writer<'_>, r: &Rect<S>) {
 }
 
 fn read_rect<S: Scalar>(input: &mut Reader<'_>) -> Result<Rect<S>, ErrorKind> {
-    Ok(Rect {
-        plane: read_plane(input)?,
-        xdir: input.vec3(),
-        dimensions: [input.number(), input.number()],
-        u: input.vec3(),
-        v: input.vec3(),
-    })
+    Ok(Rect::new(
+        read_plane(input)?,
+        input.vec3(),
+        [input.number(), input.number()],
+        input.vec3(),
+        input.vec3(),
+    ))
 }
 
 pub(crate) fn write_object<S: Scalar>(out: &mut Writer<'_>, object: &Object<S>) {
@@ -510,7 +510,7 @@ pub(crate) fn read_object<S: Scalar>(
         FPLANE => {
             Feature::FPlane.require(None)?;
             let rect = read_rect(input)?;
-            Object::init(&Rect::VTABLE, name, material, Shape::FPlane(rect))
+            Object::init(rect.fplane_vtable(), name, material, Shape::FPlane(rect))
         }
         TILED_PLANE => {
             Feature::TiledPlane.require(None)?;

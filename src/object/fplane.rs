@@ -58,6 +58,10 @@ pub struct Rect<S> {
     pub u: Vec3<S>,
     /// Local y axis.
     pub v: Vec3<S>,
+    /// Where the plane reads its normal off an axis and `u` and `v` lie along axes too:
+    /// the axis each reads (as [`Plane::read_axis`]'s code: twice the coordinate, plus one
+    /// for the negative direction).
+    axes: Option<[u8; 2]>,
 }
 
 impl<S: Scalar> Rect<S> {
@@ -92,13 +96,61 @@ impl<S: Scalar> Rect<S> {
             .unit_f64()
             .ok_or(ErrorKind::XdirParallelToNormal)?;
         let v = n.cross(u);
-        Ok(Self {
+        Ok(Self::new(plane, xdir, dimensions, u.cast(), v.cast()))
+    }
+
+    /// A rectangle of checked parts (a compiled scene's).
+    pub(crate) fn new(
+        plane: Plane<S>,
+        xdir: Vec3<S>,
+        dimensions: [S; 2],
+        u: Vec3<S>,
+        v: Vec3<S>,
+    ) -> Self {
+        // Three different axes (so `d`'s third coordinate is the plane's own).
+        let axis = |v| super::plane::unit_axis(v).and_then(|a| u8::try_from(a).ok());
+        let axes = match (plane.read_axis(), axis(u), axis(v)) {
+            (Some(n), Some(x), Some(y)) if n / 2 != x / 2 && n / 2 != y / 2 && x / 2 != y / 2 => {
+                Some([x, y])
+            }
+            _ => None,
+        };
+        Self {
             plane,
             xdir,
             dimensions,
-            u: u.cast(),
-            v: v.cast(),
-        })
+            u,
+            v,
+            axes,
+        }
+    }
+
+    /// The axes `u` and `v` lie along where the plane reads its normal off an axis too
+    /// (codes as [`Plane::read_axis`]'s): the finite plane then gets a table whose `hits`
+    /// reads them (see [`fplane_vtable`](Self::fplane_vtable)).
+    pub fn axes(&self) -> Option<[u8; 2]> {
+        self.axes
+    }
+
+    /// Whether the hit at `t` along `ray` lies within the rectangle, for a rectangle on
+    /// [`axes`](Self::axes): `(+-1, 0, 0) . d` is `+-d.x`, and the other products are
+    /// zeros (where `d` is not finite they make the sum NaN, but then a coordinate read
+    /// here is not finite either: the plane's own coordinate of a hit on it is finite), so
+    /// the same answer as [`local`](Self::local)'s dot products, with a shorter chain.
+    #[inline(always)]
+    fn within_on_axes(&self, [x, y]: [u8; 2], ray: &Ray<S>, t: S) -> bool {
+        let [w, h] = self.dimensions;
+        let (qx, qy) = (self.along(ray, t, x), self.along(ray, t, y));
+        qx >= S::ZERO && qx <= w && qy >= S::ZERO && qy <= h
+    }
+
+    /// The local coordinate along `axis` (see [`axes`](Self::axes)) of the point at `t`:
+    /// the point's coordinate as `ray.at(t)` computes it, less the corner's.
+    #[inline(always)]
+    fn along(&self, ray: &Ray<S>, t: S, axis: u8) -> S {
+        let at = |v: Vec3<S>| coordinate(v, axis & !1);
+        let q = at(ray.base) + at(ray.dir) * t - at(self.plane.point);
+        if axis % 2 == 1 { -q } else { q }
     }
 
     /// `(u, v) . (p - point)`: a point's coordinates within the rectangle.
@@ -109,7 +161,8 @@ impl<S: Scalar> Rect<S> {
     }
 
     /// The plane's hit below `limit`, if it lies within `0 <= q <= dimensions`.
-    #[inline]
+    #[cfg_attr(feature = "batch", inline(always))]
+    #[cfg_attr(not(feature = "batch"), inline)]
     pub fn nearest(&self, ray: &Ray<S>, limit: S) -> Option<S> {
         let t = self.plane.nearest_by_axis(ray, limit)?;
         // The plane test read the ray one component a load (see `Ray::read_apart`) unless
@@ -124,6 +177,22 @@ impl<S: Scalar> Rect<S> {
         (qx >= S::ZERO && qx <= w && qy >= S::ZERO && qy <= h).then_some(t)
     }
 
+    /// [`nearest`](Self::nearest) for a rectangle on `axes` (see [`axes`](Self::axes)).
+    #[inline]
+    pub fn nearest_on_axes(&self, axes: [u8; 2], ray: &Ray<S>, limit: S) -> Option<S> {
+        // The plane's test along its axis as `Plane::nearest_by_axis` makes it, written
+        // out: a second caller of that function changes how the compiler inlines it into
+        // the general finite plane's test, and that test's speed with it.
+        let plane = &self.plane;
+        let axis = plane.read_axis()?;
+        let t = S::parameter_within(
+            plane.n_dot_point - coordinate(ray.base, axis),
+            coordinate(ray.dir, axis),
+            limit,
+        )?;
+        self.within_on_axes(axes, ray, t).then_some(t)
+    }
+
     /// [`nearest`](Self::nearest) with the plane's `N.point - N.base` given (see
     /// [`Plane::nearest_from`]). (Written out, not shared with `nearest`: the shadow
     /// rays' `hits` is inlined better so.)
@@ -134,6 +203,21 @@ impl<S: Scalar> Rect<S> {
         let [qx, qy] = self.local(ray.at(t));
         let [w, h] = self.dimensions;
         (qx >= S::ZERO && qx <= w && qy >= S::ZERO && qy <= h).then_some(t)
+    }
+
+    /// [`nearest_from`](Self::nearest_from) for a rectangle on `axes` (see
+    /// [`axes`](Self::axes)).
+    #[cfg(feature = "plan")]
+    #[inline]
+    pub fn nearest_from_on_axes(
+        &self,
+        axes: [u8; 2],
+        distance: S,
+        ray: &Ray<S>,
+        limit: S,
+    ) -> Option<S> {
+        let t = self.plane.nearest_from(distance, ray.dir, limit)?;
+        self.within_on_axes(axes, ray, t).then_some(t)
     }
 
     /// The nearest hit as a hit record.
@@ -164,6 +248,24 @@ impl<S: Scalar> Rect<S> {
         material: object_material,
         surface: plane_surface,
     };
+
+    /// The table of a finite plane on [`axes`](Self::axes): its `hits` reads the local
+    /// coordinates off the axes (host builds; the firmware keeps one table in flash).
+    /// Installed by [`fplane_vtable`](Self::fplane_vtable) only (its `hits` misses
+    /// everything on other rectangles).
+    const AXES_VTABLE: ObjectVTable<S> = ObjectVTable {
+        hits: fplane_axes_hits,
+        ..Self::VTABLE
+    };
+
+    /// The table that fits this rectangle as a finite plane.
+    pub fn fplane_vtable(&self) -> &'static ObjectVTable<S> {
+        if cfg!(feature = "batch") && self.axes.is_some() {
+            &Self::AXES_VTABLE
+        } else {
+            &Self::VTABLE
+        }
+    }
 }
 
 /// Builds a finite plane and installs its table.
@@ -173,18 +275,35 @@ pub fn fplane_init<S: Scalar>(
     def: &RectDef,
     scale: f64,
 ) -> Result<Object<S>, ErrorKind> {
-    Object::init(
-        &Rect::VTABLE,
-        name,
-        material,
-        Shape::FPlane(Rect::build(def, scale)?),
-    )
+    let rect = Rect::build(def, scale)?;
+    Object::init(rect.fplane_vtable(), name, material, Shape::FPlane(rect))
 }
 
 /// `hits` of a finite plane.
 pub fn fplane_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>, limit: S) -> Option<S> {
     match obj.shape() {
         Shape::FPlane(rect) => rect.nearest(ray, limit),
+        _ => None,
+    }
+}
+
+/// The coordinate of `v` along `axis` (an axis code: twice the coordinate, plus one for
+/// the negative direction, which negates it).
+#[inline(always)]
+fn coordinate<S: Scalar>(v: Vec3<S>, axis: u8) -> S {
+    let c = match axis / 2 {
+        0 => v.x,
+        1 => v.y,
+        _ => v.z,
+    };
+    if axis % 2 == 1 { -c } else { c }
+}
+
+/// `hits` of a finite plane on axes (see [`Rect::axes`]).
+pub fn fplane_axes_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>, limit: S) -> Option<S> {
+    match obj.shape() {
+        // Installed only on rectangles on axes (see `Rect::fplane_vtable`).
+        Shape::FPlane(rect) => rect.nearest_on_axes(rect.axes?, ray, limit),
         _ => None,
     }
 }
@@ -249,6 +368,60 @@ mod tests {
                 .intersect(&ray([2.0, 6.0, -2.0], [0.0, -1.0, -1.0]))
                 .is_some()
         );
+    }
+
+    /// Every rectangle whose plane and axes lie along the coordinate axes (both signs of
+    /// each, every pairing), against the general test's dot products, in every type.
+    fn axes_hits_equal_general<S: Scalar>(v: &[f64; 9], limit: f64) {
+        let e = |axis: usize, sign: f64| {
+            let mut c = [0.0; 3];
+            c[axis] = sign;
+            c
+        };
+        for n_axis in 0..3 {
+            for (n_sign, x_sign) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
+                let x_axis = (n_axis + 1 + usize::from(v[8] > 0.0)) % 3;
+                let def = RectDef::new(
+                    e(n_axis, n_sign * 2.0),
+                    [v[0], v[1], v[0] - v[1]],
+                    e(x_axis, x_sign * 3.0),
+                    [2.5, 1.5],
+                );
+                let obj = fplane_init::<S>("f", 0, &def, 1.0).unwrap();
+                let Shape::FPlane(rect) = obj.shape() else {
+                    panic!("not an fplane")
+                };
+                // (`obj.hits` goes through the table installed for it.)
+                assert_eq!(rect.axes().is_some(), S::AXIS_READS, "{def:?}");
+                let ray = Ray::new(
+                    Vec3::new(v[2], v[3], v[4]).cast::<S>(),
+                    Vec3::new(v[5], v[6], v[7]).cast::<S>(),
+                );
+                let limit = S::from_f64(limit);
+                assert_eq!(obj.hits(&ray, limit), rect.nearest(&ray, limit), "{v:?}");
+            }
+        }
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn axes_tables_hit_where_the_general_rectangle_does(
+            v in proptest::array::uniform9(-4.0f64..4.0),
+            limit in 0.0f64..30.0,
+        ) {
+            axes_hits_equal_general::<f64>(&v, limit);
+            axes_hits_equal_general::<f32>(&v, limit);
+            axes_hits_equal_general::<crate::scalar::I16F16>(&v, limit);
+        }
+    }
+
+    #[test]
+    fn leaning_rectangles_keep_the_general_table() {
+        let obj: Object<f64> = fplane_init("f", 0, &tilted(), 1.0).unwrap();
+        let Shape::FPlane(rect) = obj.shape() else {
+            panic!("not an fplane")
+        };
+        assert_eq!(rect.axes(), None);
     }
 
     #[test]

@@ -711,11 +711,14 @@ pub(crate) fn closest_hits_in_row<S: Scalar>(
                     Shape::TiledPlane(tiled) => {
                         lanes_from_plane(lanes, &tiled.rect.plane, distance, index, z_limit);
                     }
-                    Shape::FPlane(rect) => {
-                        each_lane(lanes, index, z_limit, |ray, limit| {
+                    Shape::FPlane(rect) => match rect.axes() {
+                        Some(axes) => each_lane(lanes, index, z_limit, |ray, limit| {
+                            rect.nearest_from_on_axes(axes, distance, ray, limit)
+                        }),
+                        None => each_lane(lanes, index, z_limit, |ray, limit| {
                             rect.nearest_from(distance, ray, limit)
-                        });
-                    }
+                        }),
+                    },
                     Shape::TexPlane(textured) => {
                         each_lane(lanes, index, z_limit, |ray, limit| {
                             textured.rect.nearest_from(distance, ray, limit)

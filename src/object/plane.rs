@@ -79,7 +79,8 @@ impl<S: Scalar> Plane<S> {
     /// [`nearest`](Self::nearest), read off one coordinate when the normal is along an
     /// axis (exact, as [`axis_plane_hits`]): for the kinds built on a plane, whose own
     /// tables cannot be chosen by the plane's normal.
-    #[inline]
+    #[cfg_attr(feature = "batch", inline(always))]
+    #[cfg_attr(not(feature = "batch"), inline)]
     pub fn nearest_by_axis(&self, ray: &Ray<S>, limit: S) -> Option<S> {
         match self.read_axis() {
             Some(axis) => self.nearest_along(axis / 2, axis % 2 == 1, ray, limit),
@@ -233,21 +234,26 @@ impl<S: Scalar> Plane<S> {
     /// Which of [`AXIS_VTABLES`](Self::AXIS_VTABLES) fits this plane: `2 axis + 1` for a
     /// unit normal of `-1` along `axis`, `2 axis` for `+1`; `None` for other normals.
     pub fn axis_table(&self) -> Option<usize> {
-        let n = self.unit_normal;
-        let (z, one) = (S::ZERO, S::ONE);
-        let (axis, value) = match (n.x == z, n.y == z, n.z == z) {
-            (false, true, true) => (0, n.x),
-            (true, false, true) => (1, n.y),
-            (true, true, false) => (2, n.z),
-            _ => return None,
-        };
-        if value == one {
-            Some(2 * axis)
-        } else if value == -one {
-            Some(2 * axis + 1)
-        } else {
-            None
-        }
+        unit_axis(self.unit_normal)
+    }
+}
+
+/// The axis code of a unit vector along an axis (twice the coordinate, plus one for the
+/// negative direction): one component exactly `+-1`, the others zero.
+pub(crate) fn unit_axis<S: Scalar>(n: Vec3<S>) -> Option<usize> {
+    let (z, one) = (S::ZERO, S::ONE);
+    let (axis, value) = match (n.x == z, n.y == z, n.z == z) {
+        (false, true, true) => (0, n.x),
+        (true, false, true) => (1, n.y),
+        (true, true, false) => (2, n.z),
+        _ => return None,
+    };
+    if value == one {
+        Some(2 * axis)
+    } else if value == -one {
+        Some(2 * axis + 1)
+    } else {
+        None
     }
 }
 

@@ -14,6 +14,7 @@
 //! order and would only gain memory traffic: the firmware leaves the feature out.
 
 use super::{MAX_DEPTH, Onward, Shader, mirror_ray, through_ray, with_behind, with_mirror};
+use crate::light::Light;
 use crate::material::Material;
 use crate::object::plane::plane_surface;
 use crate::object::{Hit, RowEntry, Surface, closest_hit_among, closest_hits_in_row};
@@ -194,20 +195,44 @@ impl<S: Scalar> Shader<'_, S> {
         filtered: bool,
     ) {
         for light in self.lights {
-            for (c, lane, surface, onward) in lit(out, lanes, surfaces, onward) {
-                let material = surface.material;
-                *c = *c
-                    + self.illuminate(
-                        light,
-                        onward.index,
-                        &surface.hit,
-                        lane.ray.base,
-                        surface.diffuse,
-                        material.specular,
-                        material.shininess,
-                        filtered,
-                    );
+            // A copy of the loop for point lights without glints, the common case, with
+            // fewer values to keep.
+            if self.is_plain(light) {
+                self.add_light(light, lanes, surfaces, onward, out, filtered, true);
+            } else {
+                self.add_light(light, lanes, surfaces, onward, out, filtered, false);
             }
+        }
+    }
+
+    /// Adds one light's diffuse and glint to each shaded lane's colour in `out` (see
+    /// [`illuminate`](Self::illuminate) for `filtered` and `plain`).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn add_light(
+        &self,
+        light: &Light<S>,
+        lanes: &[Option<Lane<S>>; BATCH],
+        surfaces: &[Option<Surface<'_, S>>; BATCH],
+        onward: &[Option<Onward<S>>; BATCH],
+        out: &mut [Vec3<S>; BATCH],
+        filtered: bool,
+        plain: bool,
+    ) {
+        for (c, lane, surface, onward) in lit(out, lanes, surfaces, onward) {
+            let material = surface.material;
+            *c = *c
+                + self.illuminate(
+                    light,
+                    onward.index,
+                    &surface.hit,
+                    lane.ray.base,
+                    surface.diffuse,
+                    material.specular,
+                    material.shininess,
+                    filtered,
+                    plain,
+                );
         }
     }
 

@@ -343,9 +343,17 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 material.specular,
                 material.shininess,
                 filtered,
+                false,
             );
         }
         c
+    }
+
+    /// Whether `light` is a point light (no cone, no slide) in a render without glints:
+    /// [`illuminate`](Self::illuminate) then needs less of the hit and the material.
+    #[inline(always)]
+    fn is_plain(&self, light: &Light<S>) -> bool {
+        light.spot.is_none() && light.slide().is_none() && !self.stages.glints
     }
 
     /// Whether shadow rays pass through transparent objects, taking their filters.
@@ -357,7 +365,9 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// One light's diffuse and glint at a hit; black when the light is behind the surface,
     /// outside a spotlight's cone, or blocked by an opaque object. `filtered` is
     /// [`filters_shadows`](Self::filters_shadows), passed in so that a caller can have a
-    /// copy without the walk through transparent objects where the scene has none (always
+    /// copy without the walk through transparent objects where the scene has none, and
+    /// `plain` says the light is a point light and no glint is drawn (see
+    /// [`is_plain`](Self::is_plain)), for a copy without their branches (always
     /// inlined: called out of line, it would wait for each light's long chain of square root
     /// and divisions before the next lane's could start).
     #[allow(clippy::too_many_arguments)]
@@ -372,6 +382,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         specular: Vec3<S>,
         shininess: S,
         filtered: bool,
+        plain: bool,
     ) -> Vec3<S> {
         let to_light = light.location - hit.point;
         let distance = to_light.length();
@@ -383,7 +394,9 @@ impl<'s, S: Scalar> Shader<'s, S> {
         if !(cos > S::ZERO) {
             return Vec3::ZERO;
         }
-        if let Some(spot) = light.spot.as_ref().filter(|_| cfg!(feature = "spotlight")) {
+        if plain {
+            // (The spotlight's, the projector's and the glint's branches left out.)
+        } else if let Some(spot) = light.spot.as_ref().filter(|_| cfg!(feature = "spotlight")) {
             // unit(hit - location) is exactly -l.
             if !((-l).dot(spot.axis) > spot.cos_theta) {
                 return Vec3::ZERO;
@@ -391,7 +404,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
         }
         // A projector sends the texel of its slide that the way to the hit crosses (the
         // course's order: emissivity times texel, then times the diffuse colour).
-        let (emissivity, glint_emissivity) = match light.slide() {
+        let slide = if plain { None } else { light.slide() };
+        let (emissivity, glint_emissivity) = match slide {
             None => (light.diffuse_emissivity, light.emissivity),
             Some(slide) => match self.slide_texel(light, slide, -l, distance) {
                 Some(texel) => (
@@ -417,7 +431,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
             }
         }
         let mut c = lit * cos / distance;
-        if cfg!(feature = "glint") && self.stages.glints && shininess != S::ZERO {
+        if cfg!(feature = "glint") && !plain && self.stages.glints && shininess != S::ZERO {
             let halfway = (eye - hit.point).unit().and_then(|v| (v + l).unit());
             if let Some(h) = halfway {
                 let glint = glint_emissivity.mul_each(specular);

@@ -380,3 +380,35 @@ fn render_over_an_existing_file_leaves_exactly_the_new_image() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Whether an ELF file names a program interpreter (the dynamic loader): its program
+/// headers hold a `PT_INTERP`. `None` when the file is not a 64-bit little-endian ELF.
+fn names_interpreter(elf: &[u8]) -> Option<bool> {
+    let u16_at = |at: usize| Some(u16::from_le_bytes(elf.get(at..at + 2)?.try_into().ok()?));
+    let u32_at = |at: usize| Some(u32::from_le_bytes(elf.get(at..at + 4)?.try_into().ok()?));
+    let u64_at = |at: usize| Some(u64::from_le_bytes(elf.get(at..at + 8)?.try_into().ok()?));
+    if elf.get(..6)? != b"\x7fELF\x02\x01" {
+        return None;
+    }
+    let (first, size, count) = (u64_at(0x20)? as usize, u16_at(0x36)?, u16_at(0x38)?);
+    const PT_INTERP: u32 = 3;
+    let mut types = (0..usize::from(count)).map(|k| u32_at(first + k * usize::from(size)));
+    Some(types.any(|t| t == Some(PT_INTERP)))
+}
+
+#[test]
+fn the_binary_is_a_static_pie_where_the_build_links_it_so() {
+    let binary = std::fs::read(env!("CARGO_BIN_EXE_microray")).unwrap();
+    let dynamic = names_interpreter(&binary);
+    if option_env!("MICRORAY_STATIC_PIE").is_some() {
+        // build.rs linked it with -static-pie: no loader, yet still position independent
+        // (ELF type ET_DYN).
+        assert_eq!(dynamic, Some(false));
+        assert_eq!(binary.get(0x10..0x12), Some(&[3u8, 0][..]));
+    } else if cfg!(all(target_os = "linux", target_env = "gnu")) {
+        assert_eq!(dynamic, Some(true));
+    }
+    // And it runs.
+    let out = microray(&["check", "scenes/minimal.txt"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+}

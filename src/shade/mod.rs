@@ -351,6 +351,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
 
     /// Whether `light` is a point light (no cone, no slide) in a render without glints:
     /// [`illuminate`](Self::illuminate) then needs less of the hit and the material.
+    #[cfg(feature = "batch")]
     #[inline(always)]
     fn is_plain(&self, light: &Light<S>) -> bool {
         light.spot.is_none() && light.slide().is_none() && !self.stages.glints

@@ -242,6 +242,10 @@ pub fn antialiased<S: crate::Scalar, const OBJECTS: usize>(
 /// and the one below each band) stay a small share.
 const BAND_ROWS: usize = 8;
 
+/// Rows at the end of the image that only the calling thread renders (see
+/// [`Bands::take`]): about the time a helper thread takes to exit.
+const CALLER_ROWS: usize = 1;
+
 /// Bytes one thread of [`render_streamed`] gathers before handing them on: it gets every
 /// band, so they go out together, a few calls (system calls, for a file) for the image
 /// instead of one a band.
@@ -368,14 +372,14 @@ fn render_bands<S: crate::Scalar, const OBJECTS: usize, E: Send>(
         shrink: threads > 1 && !matches!(aa, Some(Antialias::Adaptive { .. })),
         threads,
     });
-    let next_band = || queue.lock().ok().and_then(|mut bands| bands.take());
+    let next_band = |caller: bool| queue.lock().ok().and_then(|mut bands| bands.take(caller));
     // Threads take turns at the queue, so one thread's bands seldom follow each other: a
     // band's room is enough (and a fifth of the pages to fault in).
     let own_rows = match threads {
         1 => (STREAM_BYTES / row_bytes).max(BAND_ROWS),
         _ => BAND_ROWS,
     };
-    let work = || -> Result<(), StreamError<E>> {
+    let work = |caller: bool| -> Result<(), StreamError<E>> {
         let mut row = vec![Rgb888::BLACK; width];
         let mut aa_buffer = match aa {
             Some(_) => vec![AaPixel::NEW; Antialias::buffer_len(size.width as u16)],
@@ -384,7 +388,7 @@ fn render_bands<S: crate::Scalar, const OBJECTS: usize, E: Send>(
         // The thread's own rows not yet handed on: the first, and how many.
         let mut own: Vec<u8> = Vec::new();
         let (mut own_top, mut own_held) = (0, 0);
-        while let Some((top, rows, place)) = next_band() {
+        while let Some((top, rows, place)) = next_band(caller) {
             let pixels = match place {
                 Some(pixels) => pixels,
                 None => {
@@ -433,7 +437,7 @@ fn render_bands<S: crate::Scalar, const OBJECTS: usize, E: Send>(
         Ok(())
     };
     if threads == 1 {
-        return work();
+        return work(true);
     }
     // The calling thread renders too, and each helper moves to a core of its own (when
     // there is a core for each) as soon as it starts: a new thread is queued on the core of
@@ -448,14 +452,14 @@ fn render_bands<S: crate::Scalar, const OBJECTS: usize, E: Send>(
                     if let Some(core) = core {
                         cores::move_to(core);
                     }
-                    work()
+                    work(false)
                 })
             })
             .collect();
         for _ in &helpers {
             std::thread::yield_now();
         }
-        let mut result = work();
+        let mut result = work(true);
         for helper in helpers {
             match helper.join() {
                 Ok(done) => result = result.and(done),
@@ -526,9 +530,15 @@ struct Bands<'p> {
 }
 
 impl<'p> Bands<'p> {
-    /// The next band: its first row, its rows and, with a framebuffer, its pixels.
-    fn take(&mut self) -> Option<(usize, usize, Option<&'p mut [u8]>)> {
+    /// The next band for the calling thread (`caller`) or a helper: its first row, its
+    /// rows and, with a framebuffer, its pixels. The last [`CALLER_ROWS`] are the calling
+    /// thread's, so that a helper ends, and its thread exits, while the calling thread
+    /// renders them, not while it waits to join.
+    fn take(&mut self, caller: bool) -> Option<(usize, usize, Option<&'p mut [u8]>)> {
         let left = self.height.checked_sub(self.top).filter(|&n| n > 0)?;
+        if self.shrink && !caller && left <= CALLER_ROWS {
+            return None;
+        }
         let rows = if self.shrink {
             (left / (4 * self.threads)).clamp(1, BAND_ROWS)
         } else {

@@ -522,6 +522,11 @@ impl Scalar for f64 {
     #[inline]
     fn parameter_within(num: Self, den: Self, limit: Self) -> Option<Self> {
         if HARD_DOUBLE {
+            // Signs that differ make the quotient's sign bit set (or it NaN): no `q > 0`,
+            // and no division for the divider (a shadow ray away from a plane).
+            if (num.to_bits() ^ den.to_bits()) >> 63 != 0 {
+                return None;
+            }
             let q = num / den;
             return (q > 0.0 && q < limit).then_some(q);
         }
@@ -916,6 +921,56 @@ mod tests {
         }
         // With `std` they are two implementations (which do differ), without one.
         assert_eq!(differ > 0, cfg!(feature = "std"), "{differ} differ");
+    }
+
+    #[test]
+    fn f64_parameter_within_is_the_quotients_rule() {
+        // The rule as the trait's default writes it: the quotient, kept when in (0, limit).
+        let rule = |num: f64, den: f64, limit: f64| {
+            let q = num / den;
+            (q > 0.0 && q < limit).then_some(q)
+        };
+        let mut values = vec![
+            0.0,
+            -0.0,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            1.0,
+            -1.0,
+        ];
+        values.extend([
+            f64::MIN_POSITIVE,
+            -f64::MIN_POSITIVE,
+            5e-324,
+            -5e-324,
+            1e300,
+            -1e300,
+        ]);
+        let mut seed = 0x853c_49e6_748f_ea9b_u64;
+        for _ in 0..2_000 {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            values.push(f64::from_bits(seed));
+            values.push((seed >> 11) as f64 / (1u64 << 53) as f64 * 20.0 - 10.0);
+        }
+        let limits = [f64::INFINITY, 1e-300, 0.5, 3.0, 1e300, 0.0, -1.0, f64::NAN];
+        for (k, &num) in values.iter().enumerate() {
+            for &den in values.iter().skip(k % 7).step_by(7) {
+                for limit in limits {
+                    let (got, want) = (
+                        f64::parameter_within(num, den, limit),
+                        rule(num, den, limit),
+                    );
+                    assert_eq!(
+                        got.map(f64::to_bits),
+                        want.map(f64::to_bits),
+                        "{num:e} {den:e}"
+                    );
+                }
+            }
+        }
     }
 
     #[test]

@@ -899,15 +899,20 @@ pub(crate) fn write_shortest_float<T: fmt::Display + fmt::LowerExp>(
 mod tests {
     use super::*;
 
+    /// The next state of a xorshift generator (test inputs).
+    fn xorshift(seed: &mut u64) {
+        *seed ^= *seed << 13;
+        *seed ^= *seed >> 7;
+        *seed ^= *seed << 17;
+    }
+
     #[test]
     fn pow_of_std_and_libm_agree_within_one_ulp() {
         // The glints' arguments: a cosine in (0, 1] to the course's shininesses and others.
         let mut differ = 0;
         let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
         for _ in 0..100_000 {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
+            xorshift(&mut seed);
             let x = (seed >> 11) as f64 / (1u64 << 53) as f64;
             for y in [1.0, 2.5, 20.0, 50.0, 200.0, 250.0] {
                 let (ours, reference) = (x.pow_positive(y), libm::pow(x, y));
@@ -949,9 +954,7 @@ mod tests {
         ]);
         let mut seed = 0x853c_49e6_748f_ea9b_u64;
         for _ in 0..2_000 {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
+            xorshift(&mut seed);
             values.push(f64::from_bits(seed));
             values.push((seed >> 11) as f64 / (1u64 << 53) as f64 * 20.0 - 10.0);
         }
@@ -997,9 +1000,7 @@ mod tests {
         }
         let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
         for _ in 0..200_000 {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
+            xorshift(&mut seed);
             values.push(f64::from_bits(seed));
             values.push((seed >> 11) as f64 / (1u64 << 53) as f64 * 400.0 - 200.0);
         }
@@ -1028,9 +1029,7 @@ mod tests {
         }
         let mut seed = 0x2545_f491_4f6c_dd1d_u64;
         for _ in 0..100_000 {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
+            xorshift(&mut seed);
             values.push(f64::from_bits(seed));
             values.push((seed >> 11) as f64 / (1u64 << 53) as f64 * 3.0 - 1.0);
         }
@@ -1066,9 +1065,7 @@ mod tests {
         }
         let mut seed = 0x2545_f491_4f6c_dd1d_u64;
         for _ in 0..200_000 {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
+            xorshift(&mut seed);
             values.push(f64::from_bits(seed));
             // Mostly moderate numbers, both signs.
             values.push((seed >> 11) as f64 / (1u64 << 20) as f64 - 4.0e9);
@@ -1096,9 +1093,7 @@ mod tests {
         // Random bit patterns: every exponent, subnormals, negatives and NaNs among them.
         let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
         for _ in 0..1_000_000 {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
+            xorshift(&mut seed);
             check(f64::from_bits(seed));
             check(f64::from_bits(seed >> 12));
         }

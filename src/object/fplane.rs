@@ -179,7 +179,7 @@ impl<S: Scalar> Rect<S> {
 
     /// [`nearest`](Self::nearest) for a rectangle on `axes` (see [`axes`](Self::axes)).
     #[inline]
-    pub fn nearest_on_axes(&self, axes: [u8; 2], ray: &Ray<S>, limit: S) -> Option<S> {
+    pub(crate) fn nearest_on_axes(&self, axes: [u8; 2], ray: &Ray<S>, limit: S) -> Option<S> {
         // The plane's test along its axis as `Plane::nearest_by_axis` makes it, written
         // out: a second caller of that function changes how the compiler inlines it into
         // the general finite plane's test, and that test's speed with it.
@@ -207,9 +207,9 @@ impl<S: Scalar> Rect<S> {
 
     /// [`nearest_from`](Self::nearest_from) for a rectangle on `axes` (see
     /// [`axes`](Self::axes)).
-    #[cfg(feature = "plan")]
+    #[cfg(all(feature = "plan", feature = "batch"))]
     #[inline]
-    pub fn nearest_from_on_axes(
+    pub(crate) fn nearest_from_on_axes(
         &self,
         axes: [u8; 2],
         distance: S,

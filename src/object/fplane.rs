@@ -1,7 +1,7 @@
 //! The finite plane (`fplane`): a rectangle on a plane, and the in-plane axes that the tiled
 //! and textured planes share.
 
-use super::plane::{plane_normal, plane_surface};
+use super::plane::{coordinate, plane_normal, plane_surface};
 use super::{Hit, Object, ObjectVTable, Shape, object_material};
 use crate::error::{Attr, Entity, ErrorKind};
 use crate::material::MaterialId;
@@ -285,18 +285,6 @@ pub fn fplane_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>, limit: S) -> Option
         Shape::FPlane(rect) => rect.nearest(ray, limit),
         _ => None,
     }
-}
-
-/// The coordinate of `v` along `axis` (an axis code: twice the coordinate, plus one for
-/// the negative direction, which negates it).
-#[inline(always)]
-fn coordinate<S: Scalar>(v: Vec3<S>, axis: u8) -> S {
-    let c = match axis / 2 {
-        0 => v.x,
-        1 => v.y,
-        _ => v.z,
-    };
-    if axis % 2 == 1 { -c } else { c }
 }
 
 /// `hits` of a finite plane on axes (see [`Rect::axes`]).

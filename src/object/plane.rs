@@ -102,11 +102,7 @@ impl<S: Scalar> Plane<S> {
     #[inline]
     pub fn distance_from(&self, base: Vec3<S>) -> S {
         match self.read_axis() {
-            Some(axis) => {
-                let base = component(base, axis / 2);
-                let base = if axis % 2 == 1 { -base } else { base };
-                self.n_dot_point - base
-            }
+            Some(axis) => self.n_dot_point - coordinate(base, axis),
             None => self.n_dot_point - S::dot_unit(base, self.unit_normal),
         }
     }
@@ -135,9 +131,7 @@ impl<S: Scalar> Plane<S> {
         dir: Vec3<S>,
         limit: S,
     ) -> Option<S> {
-        let dir = component(dir, axis / 2);
-        let n_dot_dir = if axis % 2 == 1 { -dir } else { dir };
-        S::parameter_within(distance, n_dot_dir, limit)
+        S::parameter_within(distance, coordinate(dir, axis), limit)
     }
 
     /// [`nearest_from`](Self::nearest_from) for a plane that reads no axis.
@@ -350,15 +344,16 @@ pub fn plane_normal<S: Scalar>(obj: &Object<S>, _: Vec3<S>) -> Vec3<S> {
     }
 }
 
-/// Coordinate `axis` of `v` (0 for x, 1 for y, 2 for z).
-#[cfg(feature = "plan")]
-#[inline]
-fn component<S: Scalar>(v: Vec3<S>, axis: u8) -> S {
-    match axis {
+/// The coordinate of `v` along an axis code (twice the coordinate, plus one for the
+/// negative direction, which negates it): `n . v` for the unit vector `n` of that code.
+#[inline(always)]
+pub(crate) fn coordinate<S: Scalar>(v: Vec3<S>, axis: u8) -> S {
+    let c = match axis / 2 {
         0 => v.x,
         1 => v.y,
         _ => v.z,
-    }
+    };
+    if axis % 2 == 1 { -c } else { c }
 }
 
 /// `printer` of a plane: the common object printer first, then the plane's attributes.

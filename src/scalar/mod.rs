@@ -906,6 +906,20 @@ mod tests {
         *seed ^= *seed << 17;
     }
 
+    /// `count` pairs of test inputs from `seed`: a random bit pattern (any value, the
+    /// special ones among them), then the state's top 53 bits as a fraction in [0, 1)
+    /// mapped by `scale`.
+    fn random_f64s(seed: u64, count: usize, scale: impl Fn(f64) -> f64) -> Vec<f64> {
+        let mut seed = seed;
+        let mut values = Vec::with_capacity(2 * count);
+        for _ in 0..count {
+            xorshift(&mut seed);
+            values.push(f64::from_bits(seed));
+            values.push(scale((seed >> 11) as f64 / (1u64 << 53) as f64));
+        }
+        values
+    }
+
     #[test]
     fn pow_of_std_and_libm_agree_within_one_ulp() {
         // The glints' arguments: a cosine in (0, 1] to the course's shininesses and others.
@@ -952,12 +966,9 @@ mod tests {
             1e300,
             -1e300,
         ]);
-        let mut seed = 0x853c_49e6_748f_ea9b_u64;
-        for _ in 0..2_000 {
-            xorshift(&mut seed);
-            values.push(f64::from_bits(seed));
-            values.push((seed >> 11) as f64 / (1u64 << 53) as f64 * 20.0 - 10.0);
-        }
+        values.extend(random_f64s(0x853c_49e6_748f_ea9b_u64, 2_000, |u| {
+            u * 20.0 - 10.0
+        }));
         let limits = [f64::INFINITY, 1e-300, 0.5, 3.0, 1e300, 0.0, -1.0, f64::NAN];
         for (k, &num) in values.iter().enumerate() {
             for &den in values.iter().skip(k % 7).step_by(7) {
@@ -998,12 +1009,9 @@ mod tests {
                 values.extend(halves.map(f64::next_down));
             }
         }
-        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
-        for _ in 0..200_000 {
-            xorshift(&mut seed);
-            values.push(f64::from_bits(seed));
-            values.push((seed >> 11) as f64 / (1u64 << 53) as f64 * 400.0 - 200.0);
-        }
+        values.extend(random_f64s(0x9e37_79b9_7f4a_7c15_u64, 200_000, |u| {
+            u * 400.0 - 200.0
+        }));
         for v in values {
             assert_eq!(v.floor_is_odd(), v.floor_to_i32() & 1 == 1, "{v:e}");
         }
@@ -1027,12 +1035,9 @@ mod tests {
             let c = f64::from(k) / 255.0;
             values.extend([c, c.next_up(), c.next_down(), -c, c + 1e-9]);
         }
-        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-        for _ in 0..100_000 {
-            xorshift(&mut seed);
-            values.push(f64::from_bits(seed));
-            values.push((seed >> 11) as f64 / (1u64 << 53) as f64 * 3.0 - 1.0);
-        }
+        values.extend(random_f64s(0x2545_f491_4f6c_dd1d_u64, 100_000, |u| {
+            u * 3.0 - 1.0
+        }));
         for c in values {
             assert_eq!(Scalar::to_byte(c), rule(c), "{c:e}");
         }
@@ -1063,13 +1068,10 @@ mod tests {
                 }
             }
         }
-        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-        for _ in 0..200_000 {
-            xorshift(&mut seed);
-            values.push(f64::from_bits(seed));
-            // Mostly moderate numbers, both signs.
-            values.push((seed >> 11) as f64 / (1u64 << 20) as f64 - 4.0e9);
-        }
+        // Mostly moderate numbers, both signs (u 2^33 - 4e9; the scaling is exact).
+        values.extend(random_f64s(0x2545_f491_4f6c_dd1d_u64, 200_000, |u| {
+            u * 8_589_934_592.0 - 4.0e9
+        }));
         for v in values {
             assert_eq!(v.floor_to_i32(), libm::floor(v) as i32, "f64 {v:e}");
             let single = v as f32;

@@ -220,16 +220,31 @@ fn timed_run(command: &mut Command) -> Result<(f64, f64), String> {
 }
 
 /// Whole-process medians of `microray render SCENE -o OUT.ppm` (f64), with one thread and
-/// with every core, `runs` runs each, alternating: CPU seconds (the issue's measure) and
-/// wall-clock seconds with one thread, wall-clock with all cores.
+/// with every core, `runs` runs each, alternating, for the release build and, where
+/// `llvm-tools` can be had, the profile-guided one (`cargo xtask pgo`): CPU seconds (the
+/// issue's measure) and wall-clock seconds with one thread, wall-clock with all cores.
 fn process_report(
     out: &mut String,
     root: &Path,
     scenes: &BTreeMap<String, PathBuf>,
     runs: usize,
 ) -> Result<(), String> {
+    let mut builds = vec![(
+        "The release build (`cargo build --release`)",
+        root.join("target/release/microray"),
+    )];
+    let pgo_note = match crate::pgo::build(root) {
+        Ok(binary) => {
+            builds.push((
+                "The profile-guided build (`cargo xtask pgo`: the same code, laid out by counts \
+                 from the course's scenes; every image identical, checked)",
+                binary,
+            ));
+            None
+        }
+        Err(e) => Some(e),
+    };
     qemu::cargo(&["build", "--release", "--bin", "microray"], root, &[])?;
-    let binary = root.join("target/release/microray");
     let output = std::env::temp_dir().join(format!("microray-bench-{}.ppm", std::process::id()));
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let _ = writeln!(
@@ -237,57 +252,77 @@ fn process_report(
         "\n## Host: the whole process\n\n\
          `microray render SCENE -o OUT.ppm` in f64, medians of {runs} runs each (process \
          start, parsing, rendering and writing the PPM), with `--threads 1` and with all \
-         {cores} cores (the default), the two alternating. One thread: CPU seconds (user and \
-         system, the issue's measure) and wall-clock; all cores: wall-clock, and the \
-         speed-up over one thread's wall-clock. The course's tracer: the issue's CPU \
-         seconds for it on the same kind of machine (it is not in this repository).\n\n\
-         | scene | course's tracer (s) | one thread, CPU (s) | against the course's | \
-         one thread, wall (s) | all cores, wall (s) | speed-up |\n\
-         |---|---|---|---|---|---|---|"
+         {cores} cores (the default), every build and thread count alternating. One thread: \
+         CPU seconds (user and system, the issue's measure) and wall-clock; all cores: \
+         wall-clock, and the speed-up over one thread's wall-clock. The course's tracer: \
+         the issue's CPU seconds for it on the same kind of machine (it is not in this \
+         repository)."
     );
-    for name in PROCESS_SCENES {
-        let Some(path) = scenes.get(name) else {
-            continue;
-        };
-        let (mut one_cpu, mut one_wall, mut all_wall) = (Vec::new(), Vec::new(), Vec::new());
-        for _ in 0..runs {
-            for threads in ["1", &*cores.to_string()] {
-                let (wall, cpu) = timed_run(
-                    Command::new(&binary)
-                        .arg("render")
-                        .arg(path)
-                        .arg("-o")
-                        .arg(&output)
-                        .args(["-q", "--threads", threads]),
-                )?;
-                if threads == "1" {
-                    one_cpu.push(cpu);
-                    one_wall.push(wall);
-                } else {
-                    all_wall.push(wall);
+    if let Some(e) = pgo_note {
+        let _ = writeln!(out, "\n(No profile-guided build in this run: {e}.)");
+    }
+    let thread_counts = ["1".to_string(), cores.to_string()];
+    // Per build and scene: one thread's CPU and wall times, all cores' wall times.
+    let mut times = vec![BTreeMap::<&str, [Vec<f64>; 3]>::new(); builds.len()];
+    for _ in 0..runs {
+        for name in PROCESS_SCENES {
+            let Some(path) = scenes.get(name) else {
+                continue;
+            };
+            for (build, (_, binary)) in builds.iter().enumerate() {
+                for threads in &thread_counts {
+                    let (wall, cpu) = timed_run(
+                        Command::new(binary)
+                            .arg("render")
+                            .arg(path)
+                            .arg("-o")
+                            .arg(&output)
+                            .args(["-q", "--threads", threads]),
+                    )?;
+                    let entry = times[build].entry(name).or_default();
+                    if threads == "1" {
+                        entry[0].push(cpu);
+                        entry[1].push(wall);
+                    } else {
+                        entry[2].push(wall);
+                    }
                 }
             }
         }
-        let median = |v: &mut Vec<f64>| {
-            v.sort_by(f64::total_cmp);
-            v.get(v.len() / 2).copied().unwrap_or(0.0)
-        };
-        let (cpu, one, all) = (
-            median(&mut one_cpu),
-            median(&mut one_wall),
-            median(&mut all_wall),
-        );
-        let course = COURSE_SECONDS.iter().find(|(n, _)| *n == name).map(|&(_, s)| s);
-        let (course_cell, ratio_cell) = match course {
-            Some(c) => (format!("{c:.3}"), format!("{:.2}x", c / cpu.max(1e-9))),
-            None => ("—".to_string(), "—".to_string()),
-        };
+    }
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v.get(v.len() / 2).copied().unwrap_or(0.0)
+    };
+    for ((title, _), mut table) in builds.iter().zip(times) {
         let _ = writeln!(
             out,
-            "| {name} | {course_cell} | {cpu:.4} | {ratio_cell} | {one:.4} | {all:.4} | {:.2}x |",
-            one / all.max(1e-9)
+            "\n{title}:\n\n\
+             | scene | course's tracer (s) | one thread, CPU (s) | against the course's | \
+             one thread, wall (s) | all cores, wall (s) | speed-up |\n\
+             |---|---|---|---|---|---|---|"
         );
+        for name in PROCESS_SCENES {
+            let Some([one_cpu, one_wall, all_wall]) = table.get_mut(name) else {
+                continue;
+            };
+            let (cpu, one, all) = (median(one_cpu), median(one_wall), median(all_wall));
+            let course = COURSE_SECONDS
+                .iter()
+                .find(|(n, _)| *n == name)
+                .map(|&(_, s)| s);
+            let (course_cell, ratio_cell) = match course {
+                Some(c) => (format!("{c:.3}"), format!("{:.2}x", c / cpu.max(1e-9))),
+                None => ("—".to_string(), "—".to_string()),
+            };
+            let _ = writeln!(
+                out,
+                "| {name} | {course_cell} | {cpu:.4} | {ratio_cell} | {one:.4} | {all:.4} | {:.2}x |",
+                one / all.max(1e-9)
+            );
+        }
     }
+    let binary = root.join("target/release/microray");
     let _ = std::fs::remove_file(&output);
     // Where the time goes, per function: this build, and the one before the std tracer's
     // batching (docs/host-profile-before.md, written by `cargo xtask host-profile`).

@@ -10,9 +10,12 @@
 //! - `cargo xtask bench [--quick]`: run time against error (`docs/benchmarks.md`).
 //! - `cargo xtask host-profile [--binary PATH] [--out FILE]`: the std tracer's time per
 //!   function (perf) on spec0 and tplane4.
+//! - `cargo xtask pgo`: the std tracer built with profile-guided optimisation, trained on
+//!   the course's scenes (`target/pgo/use/release/microray`; see `xtask/src/pgo.rs`).
 
 mod bench;
 mod host_profile;
+mod pgo;
 mod profile;
 mod qemu;
 
@@ -24,10 +27,11 @@ fn main() -> ExitCode {
         Some("qemu") => qemu::run(&args[1..]),
         Some("bench") => bench::run(&args[1..]),
         Some("host-profile") => host_profile::run(&args[1..]),
+        Some("pgo") => pgo::run(&args[1..]),
         _ => Err(
             "usage: cargo xtask qemu [--size WIDTHxHEIGHT] [--only SCENE,...] \
                   [--build PREFIX] [--profile] [--compare-plan] | cargo xtask bench [--quick] | cargo xtask host-profile \
-                  [--binary PATH] [--out FILE] [--title TEXT] [--runs N]"
+                  [--binary PATH] [--out FILE] [--title TEXT] [--runs N] | cargo xtask pgo"
                 .to_string(),
         ),
     };

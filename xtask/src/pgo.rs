@@ -27,30 +27,16 @@ pub fn build(root: &Path) -> Result<PathBuf, String> {
     let profdata_tool = llvm_profdata()?;
     let pgo = root.join("target/pgo");
     let raw = pgo.join("raw");
-    let _ = std::fs::remove_dir_all(&raw);
-    std::fs::create_dir_all(&raw).map_err(|e| e.to_string())?;
     let generate = format!("-Cprofile-generate={}", raw.display());
-    let generate_dir = pgo.join("generate");
-    qemu::cargo(
-        &[
-            "build",
-            "--release",
-            "--bin",
-            "microray",
-            "--target-dir",
-            &generate_dir.to_string_lossy(),
-        ],
-        root,
-        &[("RUSTFLAGS", &generate)],
-    )?;
-    // The build's own instrumented programs (build scripts, proc macros) wrote counts too.
+    let instrumented = build_microray(root, &pgo.join("generate"), &generate)?;
+    // Emptied after the build: its own instrumented programs (build scripts, proc macros)
+    // wrote counts there too.
     let _ = std::fs::remove_dir_all(&raw);
     std::fs::create_dir_all(&raw).map_err(|e| e.to_string())?;
     let scenes = training_scenes(root);
     if scenes.is_empty() {
         return Err("no training scenes found".into());
     }
-    let instrumented = generate_dir.join("release/microray");
     let out = std::env::temp_dir().join(format!("microray-pgo-{}.ppm", std::process::id()));
     let mut weighted = Vec::new();
     for (index, scene) in scenes.iter().enumerate() {
@@ -67,29 +53,14 @@ pub fn build(root: &Path) -> Result<PathBuf, String> {
         weighted.push(format!("--weighted-input={weight},{}", counts.display()));
     }
     let profile = pgo.join("microray.profdata");
-    let status = Command::new(&profdata_tool)
-        .args(["merge", "-sparse", "-o"])
-        .arg(&profile)
-        .args(&weighted)
-        .status()
-        .map_err(|e| e.to_string())?;
-    if !status.success() {
-        return Err("llvm-profdata merge failed".into());
-    }
-    let use_dir = pgo.join("use");
-    qemu::cargo(
-        &[
-            "build",
-            "--release",
-            "--bin",
-            "microray",
-            "--target-dir",
-            &use_dir.to_string_lossy(),
-        ],
-        root,
-        &[("RUSTFLAGS", &format!("-Cprofile-use={}", profile.display()))],
+    qemu::checked(
+        Command::new(&profdata_tool)
+            .args(["merge", "-sparse", "-o"])
+            .arg(&profile)
+            .args(&weighted),
     )?;
-    let binary = use_dir.join("release/microray");
+    let use_profile = format!("-Cprofile-use={}", profile.display());
+    let binary = build_microray(root, &pgo.join("use"), &use_profile)?;
     qemu::cargo(&["build", "--release", "--bin", "microray"], root, &[])?;
     let plain = root.join("target/release/microray");
     let other = std::env::temp_dir().join(format!("microray-pgo-{}-plain.ppm", std::process::id()));
@@ -167,24 +138,30 @@ fn render(
     out: &Path,
     envs: &[(&str, &std::ffi::OsStr)],
 ) -> Result<(), String> {
-    let status = Command::new(binary)
-        .arg("render")
-        .arg(scene)
-        .arg("-o")
-        .arg(out)
-        .args(["-q", "--threads", "1"])
-        .envs(envs.iter().copied())
-        .status()
-        .map_err(|e| e.to_string())?;
-    if status.success() {
-        Ok(())
-    } else {
-        Err(format!(
-            "{} render {} failed",
-            binary.display(),
-            scene.display()
-        ))
-    }
+    qemu::checked(
+        Command::new(binary)
+            .arg("render")
+            .arg(scene)
+            .arg("-o")
+            .arg(out)
+            .args(["-q", "--threads", "1"])
+            .envs(envs.iter().copied()),
+    )
+}
+
+/// `cargo build --release --bin microray` into `target_dir` with `rustflags`; the binary.
+fn build_microray(root: &Path, target_dir: &Path, rustflags: &str) -> Result<PathBuf, String> {
+    let dir = target_dir.to_string_lossy();
+    let args = [
+        "build",
+        "--release",
+        "--bin",
+        "microray",
+        "--target-dir",
+        &dir,
+    ];
+    qemu::cargo(&args, root, &[("RUSTFLAGS", rustflags)])?;
+    Ok(target_dir.join("release/microray"))
 }
 
 /// The sum of a raw profile's counts (`llvm-profdata show`'s "Total count").

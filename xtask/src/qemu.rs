@@ -609,16 +609,21 @@ pub(crate) fn scene_files(root: &Path, conformance: Option<&Path>) -> BTreeMap<S
 }
 
 pub(crate) fn cargo(args: &[&str], dir: &Path, envs: &[(&str, &str)]) -> Result<(), String> {
-    let status = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
-        .args(args)
-        .current_dir(dir)
-        .envs(envs.iter().copied())
-        .status()
-        .map_err(|e| e.to_string())?;
+    checked(
+        Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
+            .args(args)
+            .current_dir(dir)
+            .envs(envs.iter().copied()),
+    )
+}
+
+/// Runs `command`, an error naming it unless it succeeds.
+pub(crate) fn checked(command: &mut Command) -> Result<(), String> {
+    let status = command.status().map_err(|e| format!("{command:?}: {e}"))?;
     if status.success() {
         Ok(())
     } else {
-        Err(format!("cargo {} failed", args.join(" ")))
+        Err(format!("{command:?} failed ({status})"))
     }
 }
 

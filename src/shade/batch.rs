@@ -17,7 +17,8 @@ use super::{MAX_DEPTH, Onward, Shader, mirror_ray, through_ray, with_behind, wit
 use crate::light::Light;
 use crate::material::Material;
 use crate::object::plane::plane_surface;
-use crate::object::{Hit, RowEntry, Surface, closest_hit_among, closest_hits_in_row};
+use crate::object::tiled_plane::tiled_plane_surface;
+use crate::object::{Hit, RowEntry, Shape, Surface, closest_hit_among, closest_hits_in_row};
 use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;
@@ -114,6 +115,9 @@ impl<S: Scalar> Shader<'_, S> {
                 // inlined.
                 if object.surface_is_uniform() {
                     plane_surface(object, &self.palette, &lane.ray, t, surface);
+                } else if matches!(object.shape(), Shape::TiledPlane(_)) {
+                    // The tiled plane's table holds this one too.
+                    tiled_plane_surface(object, &self.palette, &lane.ray, t, surface);
                 } else {
                     object.surface_into(&self.palette, &lane.ray, t, surface);
                 }

@@ -211,11 +211,8 @@ fn timed_run(command: &mut Command) -> Result<(f64, f64), String> {
     // this run's.
     let cpu_before = cpu()?;
     let started = std::time::Instant::now();
-    let status = command.status().map_err(|e| e.to_string())?;
+    qemu::checked(command)?;
     let wall = started.elapsed().as_secs_f64();
-    if !status.success() {
-        return Err(format!("{command:?} failed"));
-    }
     Ok((wall, cpu()? - cpu_before))
 }
 
@@ -271,14 +268,9 @@ fn process_report(
             };
             for (build, (_, binary)) in builds.iter().enumerate() {
                 for threads in &thread_counts {
-                    let (wall, cpu) = timed_run(
-                        Command::new(binary)
-                            .arg("render")
-                            .arg(path)
-                            .arg("-o")
-                            .arg(&output)
-                            .args(["-q", "--threads", threads]),
-                    )?;
+                    let (wall, cpu) = timed_run(&mut crate::pgo::render_command(
+                        binary, path, &output, threads,
+                    ))?;
                     let entry = times[build].entry(name).or_default();
                     if threads == "1" {
                         entry[0].push(cpu);
@@ -322,11 +314,11 @@ fn process_report(
             );
         }
     }
-    let binary = root.join("target/release/microray");
+    let binary = &builds[0].1;
     let _ = std::fs::remove_file(&output);
     // Where the time goes, per function: this build, and the one before the std tracer's
     // batching (docs/host-profile-before.md, written by `cargo xtask host-profile`).
-    match host_profile::report(root, &binary, "this build", runs) {
+    match host_profile::report(root, binary, "this build", runs) {
         Ok(now) => {
             let _ = write!(out, "\n{now}");
         }

@@ -111,23 +111,9 @@ fn training_scenes(root: &Path) -> Vec<PathBuf> {
     if dirs.is_empty() {
         dirs.push(root.join("scenes"));
     }
-    let mut scenes = Vec::new();
-    while let Some(dir) = dirs.pop() {
-        let mut entries: Vec<PathBuf> = std::fs::read_dir(&dir)
-            .into_iter()
-            .flatten()
-            .flatten()
-            .map(|e| e.path())
-            .collect();
-        entries.sort();
-        for path in entries {
-            if path.is_dir() {
-                dirs.push(path);
-            } else if path.extension().is_some_and(|e| e == "txt") {
-                scenes.push(path);
-            }
-        }
-    }
+    // Sorted: the same counts file for the same scene from run to run.
+    let mut scenes = qemu::txt_files(dirs);
+    scenes.sort();
     scenes
 }
 
@@ -138,15 +124,20 @@ fn render(
     out: &Path,
     envs: &[(&str, &std::ffi::OsStr)],
 ) -> Result<(), String> {
-    qemu::checked(
-        Command::new(binary)
-            .arg("render")
-            .arg(scene)
-            .arg("-o")
-            .arg(out)
-            .args(["-q", "--threads", "1"])
-            .envs(envs.iter().copied()),
-    )
+    qemu::checked(render_command(binary, scene, out, "1").envs(envs.iter().copied()))
+}
+
+/// `binary render SCENE -o OUT -q --threads THREADS`, the whole-process run the bench
+/// times too.
+pub(crate) fn render_command(binary: &Path, scene: &Path, out: &Path, threads: &str) -> Command {
+    let mut command = Command::new(binary);
+    command
+        .arg("render")
+        .arg(scene)
+        .arg("-o")
+        .arg(out)
+        .args(["-q", "--threads", threads]);
+    command
 }
 
 /// `cargo build --release --bin microray` into `target_dir` with `rustflags`; the binary.

@@ -586,22 +586,31 @@ pub(crate) fn conformance_dir(root: &Path) -> Option<PathBuf> {
 
 /// Scene name to file, in the firmware's order: course scenes, then the project's.
 pub(crate) fn scene_files(root: &Path, conformance: Option<&Path>) -> BTreeMap<String, PathBuf> {
-    let mut found = BTreeMap::new();
     let mut dirs: Vec<PathBuf> = conformance.map(Path::to_path_buf).into_iter().collect();
     dirs.push(root.join("scenes"));
     dirs.push(root.join("tests/scenes"));
+    let mut found = BTreeMap::new();
+    for path in txt_files(dirs) {
+        let name = path
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .unwrap_or_default()
+            .to_string();
+        found.insert(name, path);
+    }
+    found
+}
+
+/// The `.txt` files under `dirs` and their subdirectories, the last directory's first.
+pub(crate) fn txt_files(mut dirs: Vec<PathBuf>) -> Vec<PathBuf> {
+    let mut found = Vec::new();
     while let Some(dir) = dirs.pop() {
         for entry in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
             let path = entry.path();
             if path.is_dir() {
                 dirs.push(path);
             } else if path.extension().is_some_and(|e| e == "txt") {
-                let name = path
-                    .file_stem()
-                    .and_then(|s| s.to_str())
-                    .unwrap_or_default()
-                    .to_string();
-                found.insert(name, path);
+                found.push(path);
             }
         }
     }

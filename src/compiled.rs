@@ -289,14 +289,19 @@ pub(crate) fn write_material<S: Scalar>(out: &mut Writer<'_>, m: &Material<S>) {
 }
 
 pub(crate) fn read_material<S: Scalar>(input: &mut Reader<'_>) -> Result<Material<S>, ErrorKind> {
+    let name = bounded(input.text()?)?;
+    let ambient = input.vec3();
+    let diffuse = input.vec3();
+    let specular: Vec3<S> = input.vec3();
     Ok(Material {
-        name: bounded(input.text()?)?,
-        ambient: input.vec3(),
-        diffuse: input.vec3(),
-        specular: input.vec3(),
+        name,
+        ambient,
+        diffuse,
+        specular,
         shininess: input.number(),
         transparency: input.number(),
         filter: input.vec3(),
+        reflects: specular != Vec3::ZERO,
     })
 }
 

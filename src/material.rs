@@ -89,6 +89,8 @@ pub struct Material<S> {
     pub transparency: S,
     /// What light passing through is multiplied by: `(tr / max(diffuse)) * diffuse`.
     pub filter: Vec3<S>,
+    /// `specular` is not zero: kept so that a batch asks once, not per channel.
+    pub(crate) reflects: bool,
 }
 
 impl<S: Scalar> Material<S> {
@@ -148,12 +150,19 @@ impl<S: Scalar> Material<S> {
             shininess,
             transparency,
             filter,
+            reflects: specular != Vec3::ZERO,
         })
     }
 
     /// The material's name.
     pub fn name(&self) -> &str {
         &self.name
+    }
+
+    /// Whether it is a mirror (`specular` is not zero).
+    #[inline]
+    pub fn reflects(&self) -> bool {
+        self.reflects
     }
 
     /// Writes the material block; zero attributes other than the colours are left out.

@@ -150,7 +150,7 @@ impl<const OBJECTS: usize> Plan<OBJECTS> {
             // An object never shadows itself (shadow rays skip the object they leave).
             shadows: !lights.is_empty() && plan.kept.len() >= 2,
             filtered_shadows: transparency,
-            reflection: used(&|m| m.specular != Vec3::ZERO),
+            reflection: used(&|m| m.reflects()),
             transparency,
             glints: !lights.is_empty() && used(&|m| m.shininess != S::ZERO),
         };

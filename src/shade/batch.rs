@@ -105,7 +105,8 @@ impl<S: Scalar> Shader<'_, S> {
         // Every surface, then every own light: the chains of the batch side by side. The
         // surfaces are written where they stay (they are large to move).
         let mut surfaces: [Option<Surface<'_, S>>; BATCH] = [None; BATCH];
-        for (surface, lane) in surfaces.iter_mut().zip(lanes) {
+        let mut onward: [Option<Onward<S>>; BATCH] = [None; BATCH];
+        for ((surface, leaving), lane) in surfaces.iter_mut().zip(&mut onward).zip(lanes) {
             let Some((lane, (index, t))) = lane.as_ref().and_then(|l| Some((l, l.hit?))) else {
                 continue;
             };
@@ -121,24 +122,20 @@ impl<S: Scalar> Shader<'_, S> {
                 } else {
                     object.surface_into(&self.palette, &lane.ray, t, surface);
                 }
+                // In the same loop: its own would test the same options again.
+                if surface.is_some() {
+                    *leaving = Some(super::onward(&lane.ray, index, t, lane.total, lane.depth));
+                }
             }
         }
-        let mut onward: [Option<Onward<S>>; BATCH] = [None; BATCH];
-        for ((leaving, surface), lane) in onward.iter_mut().zip(&surfaces).zip(lanes) {
-            if let (Some(_), Some(lane)) = (surface, lane) {
-                *leaving = lane
-                    .hit
-                    .map(|(index, t)| super::onward(&lane.ray, index, t, lane.total, lane.depth));
-            }
-        }
-        self.own_lights(lanes, &surfaces, &onward, out);
-        // Then what the mirrors show, then what lies behind transparent surfaces, in the
-        // order `beyond` adds them.
         let shaded = Shaded {
             lanes,
             surfaces: &surfaces,
             onward: &onward,
         };
+        self.own_lights(&shaded, out);
+        // Then what the mirrors show, then what lies behind transparent surfaces, in the
+        // order `beyond` adds them.
         self.leaving(&shaded, out, |s, m| s.mirrors(m), mirror_ray, with_mirror);
         self.leaving(
             &shaded,
@@ -154,78 +151,88 @@ impl<S: Scalar> Shader<'_, S> {
     /// the lanes' shadow rays to one light run side by side (each lane adds its lights in
     /// the same order as [`local`](Self::local)).
     #[inline(always)]
-    fn own_lights(
-        &self,
-        lanes: &[Option<Lane<S>>; BATCH],
-        surfaces: &[Option<Surface<'_, S>>; BATCH],
-        onward: &[Option<Onward<S>>; BATCH],
-        out: &mut [Vec3<S>; BATCH],
-    ) {
+    fn own_lights(&self, shaded: &Shaded<'_, '_, S>, out: &mut [Vec3<S>; BATCH]) {
         for c in out.iter_mut() {
             *c = Vec3::ZERO;
         }
         if !S::COURSE_ORDER {
-            for (c, lane, surface, onward) in lit(out, lanes, surfaces, onward) {
+            for (c, lane, surface, onward) in lit(out, shaded) {
                 *c = self.local_divided(surface, onward.index, &lane.ray, onward.total);
             }
             return;
         }
-        for (c, _, surface, _) in lit(out, lanes, surfaces, onward) {
-            *c = surface.ambient;
-        }
-        if self.stages.illumination {
-            // Two copies of the loop, the common one without the walk through transparent
-            // objects (it would take registers from the loop).
-            if self.filters_shadows() {
-                self.add_lights(lanes, surfaces, onward, out, true);
-            } else {
-                self.add_lights(lanes, surfaces, onward, out, false);
+        if !self.stages.illumination || self.lights.is_empty() {
+            for (c, _, surface, onward) in lit(out, shaded) {
+                *c = surface.ambient / onward.total;
             }
+            return;
         }
-        for (c, _, _, onward) in lit(out, lanes, surfaces, onward) {
-            *c = *c / onward.total;
+        // Two copies of the loop, the common one without the walk through transparent
+        // objects (it would take registers from the loop).
+        if self.filters_shadows() {
+            self.add_lights(shaded, out, true);
+        } else {
+            self.add_lights(shaded, out, false);
         }
     }
 
     /// Adds every light's diffuse and glint to each shaded lane's colour in `out`, the
     /// lights in the outer loop (see [`own_lights`](Self::own_lights)).
     #[inline(always)]
-    fn add_lights(
-        &self,
-        lanes: &[Option<Lane<S>>; BATCH],
-        surfaces: &[Option<Surface<'_, S>>; BATCH],
-        onward: &[Option<Onward<S>>; BATCH],
-        out: &mut [Vec3<S>; BATCH],
-        filtered: bool,
-    ) {
-        for light in self.lights {
-            // A copy of the loop for point lights without glints, the common case, with
-            // fewer values to keep.
-            if self.is_plain(light) {
-                self.add_light(light, lanes, surfaces, onward, out, filtered, true);
-            } else {
-                self.add_light(light, lanes, surfaces, onward, out, filtered, false);
+    fn add_lights(&self, shaded: &Shaded<'_, '_, S>, out: &mut [Vec3<S>; BATCH], filtered: bool) {
+        // Each light's place known where its loop is written, so that no lane asks.
+        match self.lights {
+            [] => {}
+            [only] => self.add_light_copy(only, shaded, out, [true, true], filtered),
+            [first, middle @ .., last] => {
+                self.add_light_copy(first, shaded, out, [true, false], filtered);
+                for light in middle {
+                    self.add_light_copy(light, shaded, out, [false, false], filtered);
+                }
+                self.add_light_copy(last, shaded, out, [false, true], filtered);
             }
         }
     }
 
+    /// [`add_light`](Self::add_light) for the light that is first and/or last or neither
+    /// (`[first, last]`), in a copy for point lights without glints, the common case, with
+    /// fewer values to keep, or in one for the others.
+    #[inline(always)]
+    fn add_light_copy(
+        &self,
+        light: &Light<S>,
+        shaded: &Shaded<'_, '_, S>,
+        out: &mut [Vec3<S>; BATCH],
+        [first, last]: [bool; 2],
+        filtered: bool,
+    ) {
+        let ends = Ends { first, last };
+        if self.is_plain(light) {
+            self.add_light(light, shaded, out, ends, filtered, true);
+        } else {
+            self.add_light(light, shaded, out, ends, filtered, false);
+        }
+    }
+
     /// Adds one light's diffuse and glint to each shaded lane's colour in `out` (see
-    /// [`illuminate`](Self::illuminate) for `filtered` and `plain`).
+    /// [`illuminate`](Self::illuminate) for `filtered` and `plain`): to the ambient colour
+    /// for the first light, and divided by the distance travelled after the last, the same
+    /// operations as loops of their own in one pass over the lanes.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn add_light(
         &self,
         light: &Light<S>,
-        lanes: &[Option<Lane<S>>; BATCH],
-        surfaces: &[Option<Surface<'_, S>>; BATCH],
-        onward: &[Option<Onward<S>>; BATCH],
+        shaded: &Shaded<'_, '_, S>,
         out: &mut [Vec3<S>; BATCH],
+        ends: Ends,
         filtered: bool,
         plain: bool,
     ) {
-        for (c, lane, surface, onward) in lit(out, lanes, surfaces, onward) {
+        for (c, lane, surface, onward) in lit(out, shaded) {
             let material = surface.material;
-            *c = *c
+            let before = if ends.first { surface.ambient } else { *c };
+            let sum = before
                 + self.illuminate(
                     light,
                     onward.index,
@@ -237,6 +244,7 @@ impl<S: Scalar> Shader<'_, S> {
                     filtered,
                     plain,
                 );
+            *c = if ends.last { sum / onward.total } else { sum };
         }
     }
 
@@ -287,6 +295,15 @@ impl<S: Scalar> Shader<'_, S> {
     }
 }
 
+/// Where a light stands in the order the lights are added.
+#[derive(Clone, Copy)]
+struct Ends {
+    /// The first: its light is added to the ambient colour.
+    first: bool,
+    /// The last: the sum is then divided by the distance travelled.
+    last: bool,
+}
+
 /// A batch's lanes with their surfaces and what the rays leaving them need.
 struct Shaded<'a, 's, S> {
     lanes: &'a [Option<Lane<S>>; BATCH],
@@ -299,9 +316,7 @@ struct Shaded<'a, 's, S> {
 #[inline(always)]
 fn lit<'a, 's, S: Scalar>(
     out: &'a mut [Vec3<S>; BATCH],
-    lanes: &'a [Option<Lane<S>>; BATCH],
-    surfaces: &'a [Option<Surface<'s, S>>; BATCH],
-    onward: &'a [Option<Onward<S>>; BATCH],
+    shaded: &Shaded<'a, 's, S>,
 ) -> impl Iterator<
     Item = (
         &'a mut Vec3<S>,
@@ -311,9 +326,9 @@ fn lit<'a, 's, S: Scalar>(
     ),
 > {
     out.iter_mut()
-        .zip(lanes)
-        .zip(surfaces)
-        .zip(onward)
+        .zip(shaded.lanes)
+        .zip(shaded.surfaces)
+        .zip(shaded.onward)
         .filter_map(|(((c, lane), surface), onward)| {
             Some((c, lane.as_ref()?, surface.as_ref()?, onward.as_ref()?))
         })

@@ -305,7 +305,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// no such materials, they fail to load, and the compiler drops the code).
     #[inline(always)]
     fn mirrors(&self, material: &Material<S>) -> bool {
-        cfg!(feature = "reflection") && self.stages.reflection && material.specular != Vec3::ZERO
+        cfg!(feature = "reflection") && self.stages.reflection && material.reflects()
     }
 
     /// Whether a surface of `material` lets light through.

@@ -179,9 +179,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
                     && material.transparency != S::ZERO,
                 shadows_per_pixel: shadow_per_pixel,
             };
-            let mirrors = cfg!(feature = "reflection")
-                && self.stages.reflection
-                && material.specular != Vec3::ZERO;
+            let mirrors =
+                cfg!(feature = "reflection") && self.stages.reflection && material.reflects();
             if !mirrors {
                 // Cannot fail: a level is added only below the capacity.
                 levels.push(level).ok()?;

@@ -106,11 +106,15 @@ impl<S: Scalar> RowRays<S> {
         let [x, y, z, length] =
             crate::lanes::unit_directions(&dx, self.dy.to_f64(), self.dz.to_f64());
         let units = x.into_iter().zip(y).zip(z).zip(length);
+        let eye = self.eye;
         for (slot, (((x, y), z), length)) in out.iter_mut().zip(units) {
-            *slot = (length > 0.0).then(|| {
+            // Written in place (through a closure's value it was copied twice).
+            if length > 0.0 {
                 let unit = Vec3::new(S::from_f64(x), S::from_f64(y), S::from_f64(z));
-                Ray::with_length(self.eye, unit, S::ONE)
-            });
+                *slot = Some(Ray::with_length(eye, unit, S::ONE));
+            } else {
+                *slot = None;
+            }
         }
     }
 }

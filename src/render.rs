@@ -525,8 +525,8 @@ fn shade_batches<S: Scalar, C: From<Rgb888>>(
         }
         let mut colors = [Vec3::ZERO; BATCH];
         shader.primary_batch_in_row(&batch, tests, &mut colors);
-        for (slot, c) in slots.iter_mut().zip(colors) {
-            *slot = bytes(c).into();
+        for (slot, c) in slots.iter_mut().zip(&colors) {
+            *slot = bytes(*c).into();
         }
     }
 }

@@ -62,14 +62,17 @@ impl<S: Scalar> Shader<'_, S> {
             *out = [Vec3::ZERO; BATCH];
             return;
         }
-        for ((lane, ray), hit) in lanes.iter_mut().zip(rays).zip(hits) {
-            *lane = ray.map(|ray| Lane {
-                ray,
-                left: None,
-                total: S::ZERO,
-                depth: 0,
-                hit,
-            });
+        // Each lane written in place (through a closure's value it was copied twice).
+        for ((lane, ray), hit) in lanes.iter_mut().zip(rays).zip(&hits) {
+            if let Some(ray) = ray {
+                *lane = Some(Lane {
+                    ray: *ray,
+                    left: None,
+                    total: S::ZERO,
+                    depth: 0,
+                    hit: *hit,
+                });
+            }
         }
         self.shade_lanes(&lanes, out);
     }
@@ -231,19 +234,20 @@ impl<S: Scalar> Shader<'_, S> {
     ) {
         for (c, lane, surface, onward) in lit(out, shaded) {
             let material = surface.material;
+            let light = self.illuminate(
+                light,
+                onward.index,
+                &surface.hit,
+                lane.ray.base,
+                surface.diffuse,
+                material.specular,
+                material.shininess,
+                filtered,
+                plain,
+            );
+            // The colour so far read after the light's shadow test, not kept across it.
             let before = if ends.first { surface.ambient } else { *c };
-            let sum = before
-                + self.illuminate(
-                    light,
-                    onward.index,
-                    &surface.hit,
-                    lane.ray.base,
-                    surface.diffuse,
-                    material.specular,
-                    material.shininess,
-                    filtered,
-                    plain,
-                );
+            let sum = before + light;
             *c = if ends.last { sum / onward.total } else { sum };
         }
     }
@@ -282,13 +286,13 @@ impl<S: Scalar> Shader<'_, S> {
         // The same test as above (`trace_lanes` drops the lanes it stops: they add black).
         for (((c, seen), surface), onward) in out
             .iter_mut()
-            .zip(seen)
+            .zip(&seen)
             .zip(shaded.surfaces)
             .zip(shaded.onward)
         {
             if let (Some(surface), Some(_)) = (surface, onward) {
                 if leaves(self, surface.material) {
-                    *c = add(*c, seen, surface.material);
+                    *c = add(*c, *seen, surface.material);
                 }
             }
         }

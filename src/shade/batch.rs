@@ -233,15 +233,11 @@ impl<S: Scalar> Shader<'_, S> {
         plain: bool,
     ) {
         for (c, lane, surface, onward) in lit(out, shaded) {
-            let material = surface.material;
             let light = self.illuminate(
                 light,
                 onward.index,
-                &surface.hit,
-                lane.ray.base,
-                surface.diffuse,
-                material.specular,
-                material.shininess,
+                surface,
+                &lane.ray.base,
                 filtered,
                 plain,
             );

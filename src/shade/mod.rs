@@ -326,25 +326,13 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// course's order of operations.
     #[inline(never)]
     fn local(&self, surface: &Surface<'_, S>, index: usize, eye: Vec3<S>) -> Vec3<S> {
-        let hit = &surface.hit;
         let mut c = surface.ambient;
         if !self.stages.illumination {
             return c;
         }
-        let material = surface.material;
         let filtered = self.filters_shadows();
         for light in self.lights {
-            c = c + self.illuminate(
-                light,
-                index,
-                hit,
-                eye,
-                surface.diffuse,
-                material.specular,
-                material.shininess,
-                filtered,
-                false,
-            );
+            c = c + self.illuminate(light, index, surface, &eye, filtered, false);
         }
         c
     }
@@ -377,14 +365,12 @@ impl<'s, S: Scalar> Shader<'s, S> {
         &self,
         light: &Light<S>,
         index: usize,
-        hit: &Hit<S>,
-        eye: Vec3<S>,
-        diffuse: Vec3<S>,
-        specular: Vec3<S>,
-        shininess: S,
+        surface: &Surface<'_, S>,
+        eye: &Vec3<S>,
         filtered: bool,
         plain: bool,
     ) -> Vec3<S> {
+        let hit = &surface.hit;
         let to_light = light.location - hit.point;
         let distance = to_light.length();
         if !(distance > S::ZERO) {
@@ -406,22 +392,21 @@ impl<'s, S: Scalar> Shader<'s, S> {
         // A projector sends the texel of its slide that the way to the hit crosses (the
         // course's order: emissivity times texel, then times the diffuse colour).
         let slide = if plain { None } else { light.slide() };
-        let (emissivity, glint_emissivity) = match slide {
-            None => (light.diffuse_emissivity, light.emissivity),
+        let texel = match slide {
+            None => None,
             Some(slide) => match self.slide_texel(light, slide, -l, distance) {
-                Some(texel) => (
-                    light.diffuse_emissivity.mul_each(texel),
-                    light.emissivity.mul_each(texel),
-                ),
+                Some(texel) => Some(texel),
                 None => return Vec3::ZERO,
             },
         };
-        let mut lit = diffuse.mul_each(emissivity);
+        // The colours are read after the shadow test (through references, so that they are
+        // not loaded before it and kept across its calls).
+        let mut filter = None;
         if filtered {
-            let Some(filter) = self.shadow_filter(hit.point, l, distance, index) else {
+            let Some(through) = self.shadow_filter(hit.point, l, distance, index) else {
                 return Vec3::ZERO;
             };
-            lit = lit.mul_each(filter);
+            filter = Some(through);
         } else if self.stages.shadows {
             // Nothing is transparent: the first blocker decides, whichever it is.
             let shadow = Ray::with_length(hit.point, l, S::ONE);
@@ -431,11 +416,24 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 return Vec3::ZERO;
             }
         }
+        let (emissivity, glint_emissivity) = match texel {
+            None => (light.diffuse_emissivity, light.emissivity),
+            Some(texel) => (
+                light.diffuse_emissivity.mul_each(texel),
+                light.emissivity.mul_each(texel),
+            ),
+        };
+        let mut lit = surface.diffuse.mul_each(emissivity);
+        if let Some(filter) = filter {
+            lit = lit.mul_each(filter);
+        }
         let mut c = lit * cos / distance;
+        let material = surface.material;
+        let shininess = material.shininess;
         if cfg!(feature = "glint") && !plain && self.stages.glints && shininess != S::ZERO {
-            let halfway = (eye - hit.point).unit().and_then(|v| (v + l).unit());
+            let halfway = (*eye - hit.point).unit().and_then(|v| (v + l).unit());
             if let Some(h) = halfway {
-                let glint = glint_emissivity.mul_each(specular);
+                let glint = glint_emissivity.mul_each(material.specular);
                 c = c + glint * h.dot(hit.normal).pow_positive(shininess);
             }
         }

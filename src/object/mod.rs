@@ -727,13 +727,15 @@ pub(crate) fn closest_hits_in_row<S: Scalar>(
                     _ => each_lane(lanes, index, z_limit, |ray, limit| object.hits(ray, limit)),
                 }
             }
-            (_, Some(object)) => {
-                for (nearest, ray) in lanes {
-                    if let Some(t) = object.hits(ray, nearest.limit) {
-                        nearest.take_in_front(index, t, ray, z_limit);
-                    }
+            (_, Some(object)) => match object.shape() {
+                // A sphere's test in the loop itself (what its table holds), not a call a ray.
+                Shape::Sphere(sphere) => {
+                    each_lane(lanes, index, z_limit, |ray, limit| {
+                        sphere.nearest(ray, limit)
+                    });
                 }
-            }
+                _ => each_lane(lanes, index, z_limit, |ray, limit| object.hits(ray, limit)),
+            },
             (_, None) => {}
         }
     }
@@ -746,7 +748,7 @@ pub(crate) fn closest_hits_in_row<S: Scalar>(
 }
 
 /// Offers each lane's hit of `test` (given the ray and the lane's limit) to the lane.
-#[cfg(all(feature = "batch", feature = "plan"))]
+#[cfg(feature = "batch")]
 #[inline(always)]
 fn each_lane<'a, S: Scalar + 'a>(
     lanes: impl Iterator<Item = (&'a mut Nearest<S>, &'a Ray<S>)>,

@@ -233,7 +233,7 @@ impl<S: Scalar> Shader<'_, S> {
         plain: bool,
     ) {
         for (c, lane, surface, onward) in lit(out, shaded) {
-            let light = self.illuminate(
+            let shine = self.illuminate(
                 light,
                 onward.index,
                 surface,
@@ -243,7 +243,7 @@ impl<S: Scalar> Shader<'_, S> {
             );
             // The colour so far read after the light's shadow test, not kept across it.
             let before = if ends.first { surface.ambient } else { *c };
-            let sum = before + light;
+            let sum = before + shine;
             *c = if ends.last { sum / onward.total } else { sum };
         }
     }

@@ -139,14 +139,15 @@ impl<S: Scalar> Shader<'_, S> {
         self.own_lights(&shaded, out);
         // Then what the mirrors show, then what lies behind transparent surfaces, in the
         // order `beyond` adds them.
-        self.leaving(&shaded, out, |s, m| s.mirrors(m), mirror_ray, with_mirror);
-        self.leaving(
-            &shaded,
-            out,
-            |s, m| s.transmits(m),
-            through_ray,
-            with_behind,
-        );
+        // (Each stage asked first, so that a render without it does not even clear its
+        // lanes.)
+        if self.any_mirrors() {
+            self.leaving(&shaded, out, |s, m| s.mirrors(m), mirror_ray, with_mirror);
+        }
+        if self.any_transmits() {
+            let through = |s: &Self, m: &Material<S>| s.transmits(m);
+            self.leaving(&shaded, out, through, through_ray, with_behind);
+        }
     }
 
     /// Each shaded lane's own light into `out` (black for the others): as

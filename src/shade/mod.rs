@@ -305,15 +305,25 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// no such materials, they fail to load, and the compiler drops the code).
     #[inline(always)]
     fn mirrors(&self, material: &Material<S>) -> bool {
-        cfg!(feature = "reflection") && self.stages.reflection && material.reflects()
+        self.any_mirrors() && material.reflects()
+    }
+
+    /// Whether the render traces mirror rays at all.
+    #[inline(always)]
+    fn any_mirrors(&self) -> bool {
+        cfg!(feature = "reflection") && self.stages.reflection
     }
 
     /// Whether a surface of `material` lets light through.
     #[inline(always)]
     fn transmits(&self, material: &Material<S>) -> bool {
-        cfg!(feature = "transparency")
-            && self.stages.transparency
-            && material.transparency != S::ZERO
+        self.any_transmits() && material.transparency != S::ZERO
+    }
+
+    /// Whether the render traces rays through transparent surfaces at all.
+    #[inline(always)]
+    fn any_transmits(&self) -> bool {
+        cfg!(feature = "transparency") && self.stages.transparency
     }
 
     /// The colour along a ray leaving a hit, as `onward` says.

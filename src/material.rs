@@ -193,6 +193,7 @@ impl<S: Scalar> Material<S> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scalar::I16F16;
 
     #[test]
     fn filter_is_transparency_over_strongest_diffuse() {
@@ -204,6 +205,20 @@ mod tests {
         )
         .unwrap();
         assert_eq!(m.filter, Vec3::new(0.0, 0.6, 0.15));
+    }
+
+    #[test]
+    fn reflects_says_whether_any_channel_mirrors() {
+        let build = |rgb| Material::<f64>::build(&MaterialDef::new("m").specular_rgb(rgb), 1.0);
+        assert!(!build([0.0; 3]).unwrap().reflects());
+        for rgb in [[0.5, 0.0, 0.0], [0.0, 0.25, 0.0], [0.0, 0.0, 1.0]] {
+            assert!(build(rgb).unwrap().reflects(), "{rgb:?}");
+        }
+        // The flag follows the stored value: a specular that Q16.16 rounds to zero does
+        // not mirror.
+        let tiny = Material::<I16F16>::build(&MaterialDef::new("m").specular(1e-9), 1.0).unwrap();
+        assert_eq!(tiny.specular, Vec3::ZERO);
+        assert!(!tiny.reflects());
     }
 
     #[test]

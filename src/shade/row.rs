@@ -174,14 +174,10 @@ impl<'s, S: Scalar> Shader<'s, S> {
                     && self.stages.glints
                     && material.shininess != S::ZERO,
                 ambient: !surface.ambient.is_zero(),
-                transparent: cfg!(feature = "transparency")
-                    && self.stages.transparency
-                    && material.transparency != S::ZERO,
+                transparent: self.transmits(material),
                 shadows_per_pixel: shadow_per_pixel,
             };
-            let mirrors =
-                cfg!(feature = "reflection") && self.stages.reflection && material.reflects();
-            if !mirrors {
+            if !self.mirrors(material) {
                 // Cannot fail: a level is added only below the capacity.
                 levels.push(level).ok()?;
                 break;

@@ -77,11 +77,22 @@ impl<S: Scalar> RowRays<S> {
     /// and square roots are done side by side (`src/lanes.rs`).
     #[inline]
     pub fn next_batch(&mut self, out: &mut [Option<Ray<S>>]) {
+        self.next_batch_with(out, |slot, ray| *slot = ray);
+    }
+
+    /// [`next_batch`](Self::next_batch) with each ray handed to `put` with its slot of
+    /// `out`, so that a caller keeping more than the ray writes it where it stays.
+    #[inline(always)]
+    pub(crate) fn next_batch_with<T>(
+        &mut self,
+        out: &mut [T],
+        mut put: impl FnMut(&mut T, Option<Ray<S>>),
+    ) {
         const BATCH: usize = crate::shade::BATCH;
         let course_f64 = S::CODE == f64::CODE && matches!(S::PIXEL_STEPS, PixelSteps::Course);
         if !course_f64 || out.len() != BATCH || usize::from(self.left) < BATCH {
             for slot in out.iter_mut() {
-                *slot = self.next().flatten();
+                put(slot, self.next().flatten());
             }
             return;
         }
@@ -108,12 +119,11 @@ impl<S: Scalar> RowRays<S> {
         let units = x.into_iter().zip(y).zip(z).zip(length);
         let eye = self.eye;
         for (slot, (((x, y), z), length)) in out.iter_mut().zip(units) {
-            // Written in place (through a closure's value it was copied twice).
             if length > 0.0 {
                 let unit = Vec3::new(S::from_f64(x), S::from_f64(y), S::from_f64(z));
-                *slot = Some(Ray::with_length(eye, unit, S::ONE));
+                put(slot, Some(Ray::with_length(eye, unit, S::ONE)));
             } else {
-                *slot = None;
+                put(slot, None);
             }
         }
     }

@@ -519,12 +519,8 @@ fn shade_batches<S: Scalar, C: From<Rgb888>>(
 ) {
     use crate::shade::BATCH;
     for slots in row.chunks_mut(BATCH) {
-        let mut batch = [None; BATCH];
-        if let Some(batch) = batch.get_mut(..slots.len()) {
-            rays.next_batch(batch);
-        }
         let mut colors = [Vec3::ZERO; BATCH];
-        shader.primary_batch_in_row(&batch, tests, &mut colors);
+        shader.primary_batch_in_row(&mut rays, slots.len(), tests, &mut colors);
         for (slot, c) in slots.iter_mut().zip(&colors) {
             *slot = bytes(*c).into();
         }

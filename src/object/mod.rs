@@ -675,11 +675,11 @@ fn rest_of_row_in_tree<S: Scalar>(
 /// by side. Each ray meets the entries in the same order with the same limits, so the same
 /// hits (tests/plan.rs).
 #[cfg(feature = "batch")]
-pub(crate) fn closest_hits_in_row<S: Scalar>(
+pub(crate) fn closest_hits_in_row<S: Scalar, R: core::borrow::Borrow<Ray<S>>>(
     objects: &[Object<S>],
     row: &[RowEntry<S>],
     tree: Option<&Tree<'_, S>>,
-    rays: &[Option<Ray<S>>],
+    rays: &[Option<R>],
     z_limit: S,
     hits: &mut [Option<(usize, S)>],
 ) {
@@ -692,7 +692,7 @@ pub(crate) fn closest_hits_in_row<S: Scalar>(
         let lanes = nearest
             .iter_mut()
             .zip(rays)
-            .filter_map(|(nearest, ray)| Some((nearest, ray.as_ref()?)));
+            .filter_map(|(nearest, ray)| Some((nearest, ray.as_ref()?.borrow())));
         match (&entry.test, objects.get(index)) {
             (RowTest::Miss, _) => {}
             (RowTest::At(t), _) => {
@@ -741,7 +741,7 @@ pub(crate) fn closest_hits_in_row<S: Scalar>(
     }
     for ((hit, nearest), ray) in hits.iter_mut().zip(&mut nearest).zip(rays) {
         if let Some(ray) = ray {
-            rest_of_row_in_tree(objects, tree, ray, z_limit, nearest);
+            rest_of_row_in_tree(objects, tree, ray.borrow(), z_limit, nearest);
         }
         *hit = nearest.best;
     }

@@ -14,6 +14,7 @@
 //! order and would only gain memory traffic: the firmware leaves the feature out.
 
 use super::{MAX_DEPTH, Onward, Shader, mirror_ray, through_ray, with_behind, with_mirror};
+use crate::camera::RowRays;
 use crate::light::Light;
 use crate::material::Material;
 use crate::object::plane::plane_surface;
@@ -33,7 +34,7 @@ const SPARSE: usize = 3;
 
 /// One ray of a batch and where it stands.
 #[derive(Clone, Copy)]
-struct Lane<S> {
+pub(crate) struct Lane<S> {
     ray: Ray<S>,
     /// The object the ray leaves (none for a primary ray).
     left: Option<usize>,
@@ -45,33 +46,41 @@ struct Lane<S> {
 }
 
 impl<S: Scalar> Shader<'_, S> {
-    /// The colours seen along up to [`BATCH`] primary rays of a row whose objects' tests
-    /// are prepared: [`primary_in_row`](Self::primary_in_row) for each, into `out`.
+    /// The colours seen along the next `count` (up to [`BATCH`]) primary rays of a row
+    /// whose objects' tests are prepared: [`primary_in_row`](Self::primary_in_row) for
+    /// each, into `out`.
     pub fn primary_batch_in_row(
         &self,
-        rays: &[Option<Ray<S>>],
+        rays: &mut RowRays<S>,
+        count: usize,
         row: &[RowEntry<S>],
         out: &mut [Vec3<S>; BATCH],
     ) {
+        // Each lane written where it stays, its ray straight from the camera (through an
+        // array of rays it was copied once more).
         let mut lanes = [None; BATCH];
+        if let Some(lanes) = lanes.get_mut(..count) {
+            rays.next_batch_with(lanes, |lane, ray| {
+                *lane = ray.map(|ray| Lane {
+                    ray,
+                    left: None,
+                    total: S::ZERO,
+                    depth: 0,
+                    hit: None,
+                });
+            });
+        }
         let mut hits = [None; BATCH];
         let tree = self.tree();
-        closest_hits_in_row(self.objects, row, tree, rays, self.z_limit, &mut hits);
+        closest_hits_in_row(self.objects, row, tree, &lanes, self.z_limit, &mut hits);
         if hits.iter().all(Option::is_none) {
             // Nothing met (the sky of a scene): black, as the stages would leave it.
             *out = [Vec3::ZERO; BATCH];
             return;
         }
-        // Each lane written in place (through a closure's value it was copied twice).
-        for ((lane, ray), hit) in lanes.iter_mut().zip(rays).zip(&hits) {
-            if let Some(ray) = ray {
-                *lane = Some(Lane {
-                    ray: *ray,
-                    left: None,
-                    total: S::ZERO,
-                    depth: 0,
-                    hit: *hit,
-                });
+        for (lane, hit) in lanes.iter_mut().zip(&hits) {
+            if let Some(lane) = lane {
+                lane.hit = *hit;
             }
         }
         self.shade_lanes(&lanes, out);
@@ -343,5 +352,11 @@ fn follow<S: Scalar>(ray: Ray<S>, onward: &Onward<S>) -> Lane<S> {
         total: onward.total,
         depth: onward.depth + 1,
         hit: None,
+    }
+}
+
+impl<S> core::borrow::Borrow<Ray<S>> for Lane<S> {
+    fn borrow(&self) -> &Ray<S> {
+        &self.ray
     }
 }

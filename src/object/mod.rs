@@ -669,20 +669,28 @@ fn rest_of_row_in_tree<S: Scalar>(
     }
 }
 
-/// [`closest_hit_in_row`] for up to [`BATCH`](crate::shade::BATCH) primary rays of a row
-/// shaded together (`None` where there is no ray), into `hits`: the row's entries in the
-/// outer loop and the rays in the inner one, so that the rays' tests of one object run side
-/// by side. Each ray meets the entries in the same order with the same limits, so the same
-/// hits (tests/plan.rs).
+/// A primary ray of a batch, with the place its closest hit is written to.
 #[cfg(feature = "batch")]
-pub(crate) fn closest_hits_in_row<S: Scalar, R: core::borrow::Borrow<Ray<S>>>(
+pub(crate) trait BatchRay<S> {
+    /// The ray.
+    fn ray(&self) -> &Ray<S>;
+    /// Writes the ray's closest hit (index and ray parameter).
+    fn set_hit(&mut self, hit: Option<(usize, S)>);
+}
+
+/// [`closest_hit_in_row`] for up to [`BATCH`](crate::shade::BATCH) primary rays of a row
+/// shaded together (`None` where there is no ray), each hit written to its ray's lane;
+/// whether any ray met an object. The row's entries are in the outer loop and the rays in
+/// the inner one, so that the rays' tests of one object run side by side. Each ray meets
+/// the entries in the same order with the same limits, so the same hits (tests/plan.rs).
+#[cfg(feature = "batch")]
+pub(crate) fn closest_hits_in_row<S: Scalar, L: BatchRay<S>>(
     objects: &[Object<S>],
     row: &[RowEntry<S>],
     tree: Option<&Tree<'_, S>>,
-    rays: &[Option<R>],
+    lanes: &mut [Option<L>],
     z_limit: S,
-    hits: &mut [Option<(usize, S)>],
-) {
+) -> bool {
     let mut nearest = [Nearest {
         best: None,
         limit: S::UNBOUNDED,
@@ -691,8 +699,8 @@ pub(crate) fn closest_hits_in_row<S: Scalar, R: core::borrow::Borrow<Ray<S>>>(
         let index = usize::from(entry.index);
         let lanes = nearest
             .iter_mut()
-            .zip(rays)
-            .filter_map(|(nearest, ray)| Some((nearest, ray.as_ref()?.borrow())));
+            .zip(lanes.iter())
+            .filter_map(|(nearest, lane)| Some((nearest, lane.as_ref()?.ray())));
         match (&entry.test, objects.get(index)) {
             (RowTest::Miss, _) => {}
             (RowTest::At(t), _) => {
@@ -739,12 +747,15 @@ pub(crate) fn closest_hits_in_row<S: Scalar, R: core::borrow::Borrow<Ray<S>>>(
             (_, None) => {}
         }
     }
-    for ((hit, nearest), ray) in hits.iter_mut().zip(&mut nearest).zip(rays) {
-        if let Some(ray) = ray {
-            rest_of_row_in_tree(objects, tree, ray.borrow(), z_limit, nearest);
+    let mut any = false;
+    for (nearest, lane) in nearest.iter_mut().zip(lanes) {
+        if let Some(lane) = lane {
+            rest_of_row_in_tree(objects, tree, lane.ray(), z_limit, nearest);
+            lane.set_hit(nearest.best);
+            any |= nearest.best.is_some();
         }
-        *hit = nearest.best;
     }
+    any
 }
 
 /// Offers each lane's hit of `test` (given the ray and the lane's limit) to the lane.

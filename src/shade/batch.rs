@@ -19,7 +19,7 @@ use crate::light::Light;
 use crate::material::Material;
 use crate::object::plane::plane_surface;
 use crate::object::tiled_plane::tiled_plane_surface;
-use crate::object::{Hit, RowEntry, Shape, Surface, closest_hit_among, closest_hits_in_row};
+use crate::object::{BatchRay, Hit, RowEntry, Shape, Surface, closest_hit_among, closest_hits_in_row};
 use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;
@@ -34,7 +34,7 @@ const SPARSE: usize = 3;
 
 /// One ray of a batch and where it stands.
 #[derive(Clone, Copy)]
-pub(crate) struct Lane<S> {
+struct Lane<S> {
     ray: Ray<S>,
     /// The object the ray leaves (none for a primary ray).
     left: Option<usize>,
@@ -70,18 +70,11 @@ impl<S: Scalar> Shader<'_, S> {
                 });
             });
         }
-        let mut hits = [None; BATCH];
         let tree = self.tree();
-        closest_hits_in_row(self.objects, row, tree, &lanes, self.z_limit, &mut hits);
-        if hits.iter().all(Option::is_none) {
+        if !closest_hits_in_row(self.objects, row, tree, &mut lanes, self.z_limit) {
             // Nothing met (the sky of a scene): black, as the stages would leave it.
             *out = [Vec3::ZERO; BATCH];
             return;
-        }
-        for (lane, hit) in lanes.iter_mut().zip(&hits) {
-            if let Some(lane) = lane {
-                lane.hit = *hit;
-            }
         }
         self.shade_lanes(&lanes, out);
     }
@@ -355,8 +348,13 @@ fn follow<S: Scalar>(ray: Ray<S>, onward: &Onward<S>) -> Lane<S> {
     }
 }
 
-impl<S> core::borrow::Borrow<Ray<S>> for Lane<S> {
-    fn borrow(&self) -> &Ray<S> {
+impl<S> BatchRay<S> for Lane<S> {
+    #[inline(always)]
+    fn ray(&self) -> &Ray<S> {
         &self.ray
+    }
+    #[inline(always)]
+    fn set_hit(&mut self, hit: Option<(usize, S)>) {
+        self.hit = hit;
     }
 }

@@ -163,12 +163,12 @@ impl<S: Scalar> Plane<S> {
     pub fn row_test(&self, origin: &RowOrigin<S>) -> RowTest<S> {
         let n = self.unit_normal;
         if S::COURSE_ORDER {
-            // A floor or wall's `hits` reads one coordinate: nothing to save.
-            return match self.axis {
-                #[cfg(feature = "plan")]
-                None => RowTest::Plane(self.distance_from(origin.eye)),
-                _ => RowTest::Hits,
-            };
+            // A floor or wall too: its `hits` reads one coordinate, but the batch then
+            // tests the row's rays in a loop of their own instead of a call each.
+            #[cfg(feature = "plan")]
+            return RowTest::Plane(self.distance_from(origin.eye));
+            #[cfg(not(feature = "plan"))]
+            return RowTest::Hits;
         }
         if n.x != S::ZERO {
             return RowTest::Hits;

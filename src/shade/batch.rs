@@ -19,7 +19,9 @@ use crate::light::Light;
 use crate::material::Material;
 use crate::object::plane::plane_surface;
 use crate::object::tiled_plane::tiled_plane_surface;
-use crate::object::{BatchRay, Hit, RowEntry, Shape, Surface, closest_hit_among, closest_hits_in_row};
+use crate::object::{
+    BatchRay, Hit, RowEntry, Shape, Surface, closest_hit_among, closest_hits_in_row,
+};
 use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;

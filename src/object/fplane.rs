@@ -1,7 +1,7 @@
 //! The finite plane (`fplane`): a rectangle on a plane, and the in-plane axes that the tiled
 //! and textured planes share.
 
-use super::plane::{coordinate, plane_normal, plane_surface};
+use super::plane::{plane_normal, plane_surface};
 use super::{Hit, Object, ObjectVTable, Shape, object_material};
 use crate::error::{Attr, Entity, ErrorKind};
 use crate::material::MaterialId;
@@ -132,25 +132,65 @@ impl<S: Scalar> Rect<S> {
         self.axes
     }
 
-    /// Whether the hit at `t` along `ray` lies within the rectangle, for a rectangle on
-    /// [`axes`](Self::axes): `(+-1, 0, 0) . d` is `+-d.x`, and the other products are
-    /// zeros (where `d` is not finite they make the sum NaN, but then a coordinate read
-    /// here is not finite either: the plane's own coordinate of a hit on it is finite), so
-    /// the same answer as [`local`](Self::local)'s dot products, with a shorter chain.
+    /// [`nearest`](Self::nearest) for a rectangle on [`axes`](Self::axes), with the axes'
+    /// indices (`[normal, u, v]`, 0 for x to 2 for z) known where it is compiled and their
+    /// codes (with the signs) given: the plane's test along its axis as
+    /// `Plane::nearest_by_axis` makes it and the bounds as [`local`](Self::local)'s dot
+    /// products find them (see [`within_on_known_axes`](Self::within_on_known_axes)), without
+    /// choosing the coordinates at each call.
     #[inline(always)]
-    fn within_on_axes(&self, [x, y]: [u8; 2], ray: &Ray<S>, t: S) -> bool {
-        let [w, h] = self.dimensions;
-        let (qx, qy) = (self.along(ray, t, x), self.along(ray, t, y));
-        qx >= S::ZERO && qx <= w && qy >= S::ZERO && qy <= h
+    fn nearest_on_known_axes(
+        &self,
+        index: [u8; 3],
+        codes: [u8; 3],
+        ray: &Ray<S>,
+        limit: S,
+    ) -> Option<S> {
+        let [n, x, y] = index;
+        let t = S::parameter_within(
+            self.plane.n_dot_point - signed(pick(&ray.base, n), codes[0]),
+            signed(pick(&ray.dir, n), codes[0]),
+            limit,
+        )?;
+        self.within_on_known_axes([x, y], [codes[1], codes[2]], ray, t)
+            .then_some(t)
     }
 
-    /// The local coordinate along `axis` (see [`axes`](Self::axes)) of the point at `t`:
-    /// the point's coordinate as `ray.at(t)` computes it, less the corner's.
+    /// [`nearest_from`](Self::nearest_from) for a rectangle on [`axes`](Self::axes), the
+    /// axes known as in [`nearest_on_known_axes`](Self::nearest_on_known_axes): the plane's
+    /// test as `Plane::nearest_from` makes it.
+    #[cfg(all(feature = "plan", feature = "batch"))]
     #[inline(always)]
-    fn along(&self, ray: &Ray<S>, t: S, axis: u8) -> S {
-        let at = |v: Vec3<S>| coordinate(v, axis & !1);
-        let q = at(ray.base) + at(ray.dir) * t - at(self.plane.point);
-        if axis % 2 == 1 { -q } else { q }
+    pub(crate) fn nearest_from_on_known_axes(
+        &self,
+        index: [u8; 3],
+        codes: [u8; 3],
+        distance: S,
+        ray: &Ray<S>,
+        limit: S,
+    ) -> Option<S> {
+        let [n, x, y] = index;
+        let t = S::parameter_within(distance, signed(pick(&ray.dir, n), codes[0]), limit)?;
+        self.within_on_known_axes([x, y], [codes[1], codes[2]], ray, t)
+            .then_some(t)
+    }
+
+    /// Whether the hit at `t` along `ray` lies within the rectangle, for a rectangle on
+    /// [`axes`](Self::axes) (`[u, v]`'s indices and codes): `(+-1, 0, 0) . d` is `+-d.x`,
+    /// and the other products are zeros (where `d` is not finite they make the sum NaN, but
+    /// then a coordinate read here is not finite either: the plane's own coordinate of a
+    /// hit on it is finite), so the same answer as [`local`](Self::local)'s dot products,
+    /// with a shorter chain.
+    #[inline(always)]
+    fn within_on_known_axes(&self, [x, y]: [u8; 2], codes: [u8; 2], ray: &Ray<S>, t: S) -> bool {
+        // As `along`: the point's coordinate as `ray.at(t)` computes it, less the corner's.
+        let along = |i: u8, code: u8| {
+            let q = pick(&ray.base, i) + pick(&ray.dir, i) * t - pick(&self.plane.point, i);
+            signed(q, code)
+        };
+        let (qx, qy) = (along(x, codes[0]), along(y, codes[1]));
+        let [w, h] = self.dimensions;
+        qx >= S::ZERO && qx <= w && qy >= S::ZERO && qy <= h
     }
 
     /// `(u, v) . (p - point)`: a point's coordinates within the rectangle.
@@ -177,22 +217,6 @@ impl<S: Scalar> Rect<S> {
         (qx >= S::ZERO && qx <= w && qy >= S::ZERO && qy <= h).then_some(t)
     }
 
-    /// [`nearest`](Self::nearest) for a rectangle on `axes` (see [`axes`](Self::axes)).
-    #[inline]
-    pub(crate) fn nearest_on_axes(&self, axes: [u8; 2], ray: &Ray<S>, limit: S) -> Option<S> {
-        // The plane's test along its axis as `Plane::nearest_by_axis` makes it, written
-        // out: a second caller of that function changes how the compiler inlines it into
-        // the general finite plane's test, and that test's speed with it.
-        let plane = &self.plane;
-        let axis = plane.read_axis()?;
-        let t = S::parameter_within(
-            plane.n_dot_point - coordinate(ray.base, axis),
-            coordinate(ray.dir, axis),
-            limit,
-        )?;
-        self.within_on_axes(axes, ray, t).then_some(t)
-    }
-
     /// [`nearest`](Self::nearest) with the plane's `N.point - N.base` given (see
     /// [`Plane::nearest_from`]). (Written out, not shared with `nearest`: the shadow
     /// rays' `hits` is inlined better so.)
@@ -203,21 +227,6 @@ impl<S: Scalar> Rect<S> {
         let [qx, qy] = self.local(ray.at(t));
         let [w, h] = self.dimensions;
         (qx >= S::ZERO && qx <= w && qy >= S::ZERO && qy <= h).then_some(t)
-    }
-
-    /// [`nearest_from`](Self::nearest_from) for a rectangle on `axes` (see
-    /// [`axes`](Self::axes)).
-    #[cfg(all(feature = "plan", feature = "batch"))]
-    #[inline]
-    pub(crate) fn nearest_from_on_axes(
-        &self,
-        axes: [u8; 2],
-        distance: S,
-        ray: &Ray<S>,
-        limit: S,
-    ) -> Option<S> {
-        let t = self.plane.nearest_from(distance, ray.dir, limit)?;
-        self.within_on_axes(axes, ray, t).then_some(t)
     }
 
     /// The nearest hit as a hit record.
@@ -249,23 +258,59 @@ impl<S: Scalar> Rect<S> {
         surface: plane_surface,
     };
 
-    /// The table of a finite plane on [`axes`](Self::axes): its `hits` reads the local
-    /// coordinates off the axes (host builds; the firmware keeps one table in flash).
-    /// Installed by [`fplane_vtable`](Self::fplane_vtable) only (its `hits` misses
-    /// everything on other rectangles).
-    const AXES_VTABLE: ObjectVTable<S> = ObjectVTable {
-        hits: fplane_axes_hits,
-        ..Self::VTABLE
-    };
+    /// The tables of finite planes on [`axes`](Self::axes), one for each pair of the
+    /// normal's axis and `u`'s (`v`'s is the third): its `hits` reads the local coordinates
+    /// off those axes, chosen when the function is compiled rather than by the codes at
+    /// each call (host builds; the firmware keeps one table in flash). Installed by
+    /// [`fplane_vtable`](Self::fplane_vtable) only; on another rectangle its `hits` is the
+    /// general test's.
+    const AXES_VTABLES: [ObjectVTable<S>; 6] = [
+        Self::axes_table::<0, 1>(),
+        Self::axes_table::<0, 2>(),
+        Self::axes_table::<1, 0>(),
+        Self::axes_table::<1, 2>(),
+        Self::axes_table::<2, 0>(),
+        Self::axes_table::<2, 1>(),
+    ];
+
+    /// The table of [`AXES_VTABLES`](Self::AXES_VTABLES) for a normal along axis `N`
+    /// and `u` along axis `X`.
+    const fn axes_table<const N: u8, const X: u8>() -> ObjectVTable<S> {
+        ObjectVTable {
+            hits: fplane_axes_hits::<S, N, X>,
+            ..Self::VTABLE
+        }
+    }
 
     /// The table that fits this rectangle as a finite plane.
     pub fn fplane_vtable(&self) -> &'static ObjectVTable<S> {
-        if cfg!(feature = "batch") && self.axes.is_some() {
-            &Self::AXES_VTABLE
-        } else {
-            &Self::VTABLE
-        }
+        let table = match (self.plane.read_axis(), self.axes) {
+            (Some(n), Some([x, _])) if cfg!(feature = "batch") => {
+                // The normal's axis, then whether `u`'s is the larger of the other two.
+                let (n, x) = (n / 2, x / 2);
+                let larger = x > 3u8.saturating_sub(n + x);
+                Self::AXES_VTABLES.get(2 * usize::from(n) + usize::from(larger))
+            }
+            _ => None,
+        };
+        table.unwrap_or(&Self::VTABLE)
     }
+}
+
+/// Coordinate `i` of `v` (0 for x, 1 for y, 2 for z).
+#[inline(always)]
+fn pick<S: Scalar>(v: &Vec3<S>, i: u8) -> S {
+    match i {
+        0 => v.x,
+        1 => v.y,
+        _ => v.z,
+    }
+}
+
+/// `c`, negated for an odd axis code (a negative direction, as the plane's `coordinate` reads it).
+#[inline(always)]
+fn signed<S: Scalar>(c: S, code: u8) -> S {
+    if code % 2 == 1 { -c } else { c }
 }
 
 /// Builds a finite plane and installs its table.
@@ -287,11 +332,21 @@ pub fn fplane_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>, limit: S) -> Option
     }
 }
 
-/// `hits` of a finite plane on axes (see [`Rect::axes`]).
-pub fn fplane_axes_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>, limit: S) -> Option<S> {
+/// `hits` of a finite plane on axes (see [`Rect::axes`]) whose normal lies along axis `N`
+/// and whose `u` along axis `X` (0 for x, 1 for y, 2 for z; `v` along the third).
+pub fn fplane_axes_hits<S: Scalar, const N: u8, const X: u8>(
+    obj: &Object<S>,
+    ray: &Ray<S>,
+    limit: S,
+) -> Option<S> {
     match obj.shape() {
-        // Installed only on rectangles on axes (see `Rect::fplane_vtable`).
-        Shape::FPlane(rect) => rect.nearest_on_axes(rect.axes?, ray, limit),
+        Shape::FPlane(rect) => match (rect.plane.read_axis(), rect.axes) {
+            (Some(n), Some([x, y])) if n / 2 == N && x / 2 == X => {
+                rect.nearest_on_known_axes([N, X, 3 - N - X], [n, x, y], ray, limit)
+            }
+            // Not the rectangle the table was chosen for.
+            _ => rect.nearest(ray, limit),
+        },
         _ => None,
     }
 }

@@ -719,11 +719,28 @@ pub(crate) fn closest_hits_in_row<S: Scalar, L: BatchRay<S>>(
                     Shape::TiledPlane(tiled) => {
                         lanes_from_plane(lanes, &tiled.rect.plane, distance, index, z_limit);
                     }
-                    Shape::FPlane(rect) => match rect.axes() {
-                        Some(axes) => each_lane(lanes, index, z_limit, |ray, limit| {
-                            rect.nearest_from_on_axes(axes, distance, ray, limit)
-                        }),
-                        None => each_lane(lanes, index, z_limit, |ray, limit| {
+                    Shape::FPlane(rect) => match (rect.plane.read_axis(), rect.axes()) {
+                        // The coordinates each ray's test reads chosen here, once a row.
+                        (Some(n), Some([x, y])) => {
+                            let codes = [n, x, y];
+                            let known = |lanes, [n, x, y]: [u8; 3]| {
+                                each_lane(lanes, index, z_limit, |ray, limit| {
+                                    let index = [n, x, y];
+                                    rect.nearest_from_on_known_axes(
+                                        index, codes, distance, ray, limit,
+                                    )
+                                })
+                            };
+                            match [x / 2, y / 2] {
+                                [0, 1] => known(lanes, [2, 0, 1]),
+                                [1, 0] => known(lanes, [2, 1, 0]),
+                                [0, 2] => known(lanes, [1, 0, 2]),
+                                [2, 0] => known(lanes, [1, 2, 0]),
+                                [1, 2] => known(lanes, [0, 1, 2]),
+                                _ => known(lanes, [0, 2, 1]),
+                            }
+                        }
+                        _ => each_lane(lanes, index, z_limit, |ray, limit| {
                             rect.nearest_from(distance, ray, limit)
                         }),
                     },

@@ -346,6 +346,7 @@ pub fn plane_normal<S: Scalar>(obj: &Object<S>, _: Vec3<S>) -> Vec3<S> {
 
 /// The coordinate of `v` along an axis code (twice the coordinate, plus one for the
 /// negative direction, which negates it): `n . v` for the unit vector `n` of that code.
+#[cfg(feature = "plan")]
 #[inline(always)]
 pub(crate) fn coordinate<S: Scalar>(v: Vec3<S>, axis: u8) -> S {
     let c = match axis / 2 {

@@ -723,11 +723,10 @@ pub(crate) fn closest_hits_in_row<S: Scalar, L: BatchRay<S>>(
                         // The coordinates each ray's test reads chosen here, once a row.
                         (Some(n), Some([x, y])) => {
                             let codes = [n, x, y];
-                            let known = |lanes, [n, x, y]: [u8; 3]| {
+                            let known = |lanes, axes: [u8; 3]| {
                                 each_lane(lanes, index, z_limit, |ray, limit| {
-                                    let index = [n, x, y];
                                     rect.nearest_from_on_known_axes(
-                                        index, codes, distance, ray, limit,
+                                        axes, codes, distance, ray, limit,
                                     )
                                 })
                             };

@@ -112,8 +112,10 @@ impl<S: Scalar> Shader<'_, S> {
         // Every surface, then every own light: the chains of the batch side by side. The
         // surfaces are written where they stay (they are large to move).
         let mut surfaces: [Option<Surface<'_, S>>; BATCH] = [None; BATCH];
-        let mut onward: [Option<Onward<S>>; BATCH] = [None; BATCH];
-        for ((surface, leaving), lane) in surfaces.iter_mut().zip(&mut onward).zip(lanes) {
+        // Each shaded lane's ray, surface and onward record in one place, so that the
+        // stages' loops ask one question a lane.
+        let mut shades: [Option<Shade<'_, '_, S>>; BATCH] = [None; BATCH];
+        for ((surface, shade), lane) in surfaces.iter_mut().zip(&mut shades).zip(lanes) {
             let Some((lane, (index, t))) = lane.as_ref().and_then(|l| Some((l, l.hit?))) else {
                 continue;
             };
@@ -130,16 +132,16 @@ impl<S: Scalar> Shader<'_, S> {
                     object.surface_into(&self.palette, &lane.ray, t, surface);
                 }
                 // In the same loop: its own would test the same options again.
-                if surface.is_some() {
-                    *leaving = Some(super::onward(&lane.ray, index, t, lane.total, lane.depth));
+                if let Some(surface) = surface.as_ref() {
+                    *shade = Some(Shade {
+                        ray: &lane.ray,
+                        surface,
+                        onward: super::onward(&lane.ray, index, t, lane.total, lane.depth),
+                    });
                 }
             }
         }
-        let shaded = Shaded {
-            lanes,
-            surfaces: &surfaces,
-            onward: &onward,
-        };
+        let shaded = Shaded { shades: &shades };
         self.own_lights(&shaded, out);
         // Then what the mirrors show, then what lies behind transparent surfaces, in the
         // order `beyond` adds them.
@@ -164,14 +166,15 @@ impl<S: Scalar> Shader<'_, S> {
             *c = Vec3::ZERO;
         }
         if !S::COURSE_ORDER {
-            for (c, lane, surface, onward) in lit(out, shaded) {
-                *c = self.local_divided(surface, onward.index, &lane.ray, onward.total);
+            for (c, shade) in lit(out, shaded) {
+                let (surface, onward) = (shade.surface, &shade.onward);
+                *c = self.local_divided(surface, onward.index, shade.ray, onward.total);
             }
             return;
         }
         if !self.stages.illumination || self.lights.is_empty() {
-            for (c, _, surface, onward) in lit(out, shaded) {
-                *c = surface.ambient / onward.total;
+            for (c, shade) in lit(out, shaded) {
+                *c = shade.surface.ambient / shade.onward.total;
             }
             return;
         }
@@ -237,12 +240,13 @@ impl<S: Scalar> Shader<'_, S> {
         filtered: bool,
         plain: bool,
     ) {
-        for (c, lane, surface, onward) in lit(out, shaded) {
+        for (c, shade) in lit(out, shaded) {
+            let (surface, onward) = (shade.surface, &shade.onward);
             let shine = self.illuminate(
                 light,
                 onward.index,
                 surface,
-                &lane.ray.base,
+                &shade.ray.base,
                 filtered,
                 plain,
             );
@@ -266,15 +270,11 @@ impl<S: Scalar> Shader<'_, S> {
     ) {
         let mut next = [None; BATCH];
         let mut any = false;
-        for (((next, lane), surface), onward) in next
-            .iter_mut()
-            .zip(shaded.lanes)
-            .zip(shaded.surfaces)
-            .zip(shaded.onward)
-        {
-            if let (Some(lane), Some(surface), Some(onward)) = (lane, surface, onward) {
-                if leaves(self, surface.material) {
-                    *next = Some(follow(ray(&lane.ray, &surface.hit, onward), onward));
+        for (next, shade) in next.iter_mut().zip(shaded.shades) {
+            if let Some(shade) = shade {
+                if leaves(self, shade.surface.material) {
+                    let leaving = ray(shade.ray, &shade.surface.hit, &shade.onward);
+                    *next = Some(follow(leaving, &shade.onward));
                     any = true;
                 }
             }
@@ -285,15 +285,10 @@ impl<S: Scalar> Shader<'_, S> {
         let mut seen = [Vec3::ZERO; BATCH];
         self.trace_lanes(&mut next, &mut seen);
         // The same test as above (`trace_lanes` drops the lanes it stops: they add black).
-        for (((c, seen), surface), onward) in out
-            .iter_mut()
-            .zip(&seen)
-            .zip(shaded.surfaces)
-            .zip(shaded.onward)
-        {
-            if let (Some(surface), Some(_)) = (surface, onward) {
-                if leaves(self, surface.material) {
-                    *c = add(*c, *seen, surface.material);
+        for ((c, seen), shade) in out.iter_mut().zip(&seen).zip(shaded.shades) {
+            if let Some(shade) = shade {
+                if leaves(self, shade.surface.material) {
+                    *c = add(*c, *seen, shade.surface.material);
                 }
             }
         }
@@ -309,34 +304,28 @@ struct Ends {
     last: bool,
 }
 
-/// A batch's lanes with their surfaces and what the rays leaving them need.
-struct Shaded<'a, 's, S> {
-    lanes: &'a [Option<Lane<S>>; BATCH],
-    surfaces: &'a [Option<Surface<'s, S>>; BATCH],
-    onward: &'a [Option<Onward<S>>; BATCH],
+/// A shaded lane: its ray, the surface it met and what the rays leaving it need.
+#[derive(Clone, Copy)]
+struct Shade<'a, 's, S> {
+    ray: &'a Ray<S>,
+    surface: &'a Surface<'s, S>,
+    onward: Onward<S>,
 }
 
-/// The colours of the lanes that met a surface, with the lane, the surface and what the
-/// rays leaving it need.
+/// A batch's shaded lanes (`None` for the others).
+struct Shaded<'a, 's, S> {
+    shades: &'a [Option<Shade<'a, 's, S>>; BATCH],
+}
+
+/// The colours of the lanes that met a surface, with what shading them needs.
 #[inline(always)]
 fn lit<'a, 's, S: Scalar>(
     out: &'a mut [Vec3<S>; BATCH],
     shaded: &Shaded<'a, 's, S>,
-) -> impl Iterator<
-    Item = (
-        &'a mut Vec3<S>,
-        &'a Lane<S>,
-        &'a Surface<'s, S>,
-        &'a Onward<S>,
-    ),
-> {
+) -> impl Iterator<Item = (&'a mut Vec3<S>, &'a Shade<'a, 's, S>)> {
     out.iter_mut()
-        .zip(shaded.lanes)
-        .zip(shaded.surfaces)
-        .zip(shaded.onward)
-        .filter_map(|(((c, lane), surface), onward)| {
-            Some((c, lane.as_ref()?, surface.as_ref()?, onward.as_ref()?))
-        })
+        .zip(shaded.shades)
+        .filter_map(|(c, shade)| Some((c, shade.as_ref()?)))
 }
 
 /// The lane of a ray leaving a hit, as `onward` says (as [`Shader::follow`]).

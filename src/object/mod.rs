@@ -801,10 +801,19 @@ fn lanes_from_plane<'a, S: Scalar + 'a>(
     index: usize,
     z_limit: S,
 ) {
-    match plane.read_axis() {
-        Some(axis) => each_lane(lanes, index, z_limit, |ray, limit| {
+    // The axis a constant of each loop, so that no lane chooses the coordinate.
+    let along = |lanes, axis: u8| {
+        each_lane(lanes, index, z_limit, |ray, limit| {
             plane.nearest_from_axis(axis, distance, ray.dir, limit)
-        }),
+        });
+    };
+    match plane.read_axis() {
+        Some(0) => along(lanes, 0),
+        Some(1) => along(lanes, 1),
+        Some(2) => along(lanes, 2),
+        Some(3) => along(lanes, 3),
+        Some(4) => along(lanes, 4),
+        Some(axis) => along(lanes, axis),
         None => each_lane(lanes, index, z_limit, |ray, limit| {
             plane.nearest_from_leaning(distance, ray.dir, limit)
         }),

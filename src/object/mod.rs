@@ -947,8 +947,15 @@ pub fn any_hit_remembering<S: Scalar>(
     z_limit: S,
     last: Option<&core::sync::atomic::AtomicU16>,
 ) -> bool {
-    let (true, Among::Tree(tree), Some(last)) = (cfg!(feature = "plan"), among, last) else {
-        return any_hit_among(objects, among, ray, skip, limit, z_limit);
+    // One match on the set: a row's list (the common case) is walked here.
+    let (tree, last) = match (among, last) {
+        (Among::Only(list), _) => {
+            return list
+                .iter()
+                .any(|&index| blocks(objects, usize::from(index), ray, skip, limit, z_limit));
+        }
+        (Among::Tree(tree), Some(last)) if cfg!(feature = "plan") => (tree, last),
+        _ => return any_hit_among(objects, among, ray, skip, limit, z_limit),
     };
     let remembered = last.load(core::sync::atomic::Ordering::Relaxed);
     if remembered != NONE_REMEMBERED

@@ -527,6 +527,39 @@ impl<S: Scalar> Among<'_, S> {
     }
 }
 
+/// [`closest_hit_among`] over the objects of `list` (a row's list, in increasing index
+/// order), but `skip`.
+#[cfg(feature = "batch")]
+#[inline(always)]
+pub(crate) fn closest_in_list<S: Scalar>(
+    objects: &[Object<S>],
+    list: &[u16],
+    ray: &Ray<S>,
+    skip: Option<usize>,
+    limit: S,
+    z_limit: S,
+) -> Option<(usize, S)> {
+    let mut best = None;
+    let mut limit = limit;
+    for &index in list {
+        let index = usize::from(index);
+        if Some(index) == skip {
+            continue;
+        }
+        let Some(object) = objects.get(index) else {
+            continue;
+        };
+        if let Some(t) = object.hits(ray, limit) {
+            // The hit point's z, as `ray.at(t)` computes it.
+            if ray.base.z + ray.dir.z * t <= z_limit {
+                best = Some((index, t));
+                limit = t;
+            }
+        }
+    }
+    best
+}
+
 /// The index and ray parameter of the nearest hit with `0 < t < limit` among the objects
 /// `among` (but `skip`), with the z rule of [`closest_hit`].
 #[inline]

@@ -20,7 +20,8 @@ use crate::material::Material;
 use crate::object::plane::plane_surface;
 use crate::object::tiled_plane::tiled_plane_surface;
 use crate::object::{
-    BatchRay, Hit, RowEntry, Shape, Surface, closest_hit_among, closest_hits_in_row,
+    Among, BatchRay, Hit, RowEntry, Shape, Surface, closest_hit_among, closest_hits_in_row,
+    closest_in_list,
 };
 use crate::ray::Ray;
 use crate::scalar::Scalar;
@@ -89,20 +90,32 @@ impl<S: Scalar> Shader<'_, S> {
             }
             return;
         }
-        for slot in lanes.iter_mut() {
-            let Some(lane) = slot else { continue };
-            if lane.total > self.max_distance || lane.depth > MAX_DEPTH {
-                *slot = None;
-                continue;
-            }
-            lane.hit = closest_hit_among(
+        // The set of objects matched once: a row's list (the common set) walked here.
+        let search = |lane: &Lane<S>| match self.among {
+            Among::Only(list) => closest_in_list(
+                self.objects,
+                list,
+                &lane.ray,
+                lane.left,
+                S::UNBOUNDED,
+                self.z_limit,
+            ),
+            _ => closest_hit_among(
                 self.objects,
                 &self.among,
                 &lane.ray,
                 lane.left,
                 S::UNBOUNDED,
                 self.z_limit,
-            );
+            ),
+        };
+        for slot in lanes.iter_mut() {
+            let Some(lane) = slot else { continue };
+            if lane.total > self.max_distance || lane.depth > MAX_DEPTH {
+                *slot = None;
+                continue;
+            }
+            lane.hit = search(lane);
         }
         self.shade_lanes(lanes, out);
     }

@@ -219,9 +219,10 @@ impl<S: Scalar> Rect<S> {
 
     /// [`nearest`](Self::nearest) with the plane's `N.point - N.base` given (see
     /// [`Plane::nearest_from`]). (Written out, not shared with `nearest`: the shadow
-    /// rays' `hits` is inlined better so.)
+    /// rays' `hits` is inlined better so.) Always inlined into the batch's row loop.
     #[cfg(feature = "plan")]
-    #[inline]
+    #[cfg_attr(feature = "batch", inline(always))]
+    #[cfg_attr(not(feature = "batch"), inline)]
     pub fn nearest_from(&self, distance: S, ray: &Ray<S>, limit: S) -> Option<S> {
         let t = self.plane.nearest_from(distance, ray.dir, limit)?;
         let [qx, qy] = self.local(ray.at(t));

@@ -1,7 +1,7 @@
 //! The finite plane (`fplane`): a rectangle on a plane, and the in-plane axes that the tiled
 //! and textured planes share.
 
-use super::plane::{plane_normal, plane_surface};
+use super::plane::{pick, plane_normal, plane_surface, signed};
 use super::{Hit, Object, ObjectVTable, Shape, object_material};
 use crate::error::{Attr, Entity, ErrorKind};
 use crate::material::MaterialId;
@@ -300,23 +300,6 @@ impl<S: Scalar> Rect<S> {
         };
         table.unwrap_or(&Self::VTABLE)
     }
-}
-
-/// Coordinate `i` of `v` (0 for x, 1 for y, 2 for z).
-#[inline(always)]
-fn pick<S: Scalar>(v: &Vec3<S>, i: u8) -> S {
-    match i {
-        0 => v.x,
-        1 => v.y,
-        _ => v.z,
-    }
-}
-
-/// `c`, negated for an odd axis code (a negative direction, as the plane's `coordinate`
-/// reads it).
-#[inline(always)]
-fn signed<S: Scalar>(c: S, code: u8) -> S {
-    if code % 2 == 1 { -c } else { c }
 }
 
 /// Builds a finite plane and installs its table.

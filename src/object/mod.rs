@@ -834,7 +834,8 @@ fn lanes_from_plane<'a, S: Scalar + 'a>(
     index: usize,
     z_limit: S,
 ) {
-    // The axis a constant of each loop, so that no lane chooses the coordinate.
+    // The axis a constant of each loop, so that no lane chooses the coordinate (codes 0
+    // to 5: the last arm is 5's).
     let along = |lanes, axis: u8| {
         each_lane(lanes, index, z_limit, |ray, limit| {
             plane.nearest_from_axis(axis, distance, ray.dir, limit)

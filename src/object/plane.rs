@@ -349,12 +349,23 @@ pub fn plane_normal<S: Scalar>(obj: &Object<S>, _: Vec3<S>) -> Vec3<S> {
 #[cfg(feature = "plan")]
 #[inline(always)]
 pub(crate) fn coordinate<S: Scalar>(v: Vec3<S>, axis: u8) -> S {
-    let c = match axis / 2 {
+    signed(pick(&v, axis / 2), axis)
+}
+
+/// Coordinate `i` of `v` (0 for x, 1 for y, 2 for z).
+#[inline(always)]
+pub(crate) fn pick<S: Scalar>(v: &Vec3<S>, i: u8) -> S {
+    match i {
         0 => v.x,
         1 => v.y,
         _ => v.z,
-    };
-    if axis % 2 == 1 { -c } else { c }
+    }
+}
+
+/// `c`, negated for an odd axis code (a negative direction, as [`coordinate`] reads it).
+#[inline(always)]
+pub(crate) fn signed<S: Scalar>(c: S, code: u8) -> S {
+    if code % 2 == 1 { -c } else { c }
 }
 
 /// `printer` of a plane: the common object printer first, then the plane's attributes.

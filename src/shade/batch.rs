@@ -90,7 +90,8 @@ impl<S: Scalar> Shader<'_, S> {
             }
             return;
         }
-        // The set of objects matched once: a row's list (the common set) walked here.
+        // A row's list (the common set) walked here, in line, rather than through
+        // `closest_hit_among`'s call.
         let search = |lane: &Lane<S>| match self.among {
             Among::Only(list) => closest_in_list(
                 self.objects,
@@ -154,18 +155,17 @@ impl<S: Scalar> Shader<'_, S> {
                 }
             }
         }
-        let shaded = Shaded { shades: &shades };
-        self.own_lights(&shaded, out);
+        self.own_lights(&shades, out);
         // Then what the mirrors show, then what lies behind transparent surfaces, in the
         // order `beyond` adds them.
         // (Each stage asked first, so that a render without it does not even clear its
         // lanes.)
         if self.any_mirrors() {
-            self.leaving(&shaded, out, |s, m| s.mirrors(m), mirror_ray, with_mirror);
+            self.leaving(&shades, out, |s, m| s.mirrors(m), mirror_ray, with_mirror);
         }
         if self.any_transmits() {
             let through = |s: &Self, m: &Material<S>| s.transmits(m);
-            self.leaving(&shaded, out, through, through_ray, with_behind);
+            self.leaving(&shades, out, through, through_ray, with_behind);
         }
     }
 
@@ -283,7 +283,7 @@ impl<S: Scalar> Shader<'_, S> {
     ) {
         let mut next = [None; BATCH];
         let mut any = false;
-        for (next, shade) in next.iter_mut().zip(shaded.shades) {
+        for (next, shade) in next.iter_mut().zip(shaded) {
             if let Some(shade) = shade {
                 if leaves(self, shade.surface.material) {
                     let leaving = ray(shade.ray, &shade.surface.hit, &shade.onward);
@@ -298,7 +298,7 @@ impl<S: Scalar> Shader<'_, S> {
         let mut seen = [Vec3::ZERO; BATCH];
         self.trace_lanes(&mut next, &mut seen);
         // The same test as above (`trace_lanes` drops the lanes it stops: they add black).
-        for ((c, seen), shade) in out.iter_mut().zip(&seen).zip(shaded.shades) {
+        for ((c, seen), shade) in out.iter_mut().zip(&seen).zip(shaded) {
             if let Some(shade) = shade {
                 if leaves(self, shade.surface.material) {
                     *c = add(*c, *seen, shade.surface.material);
@@ -326,18 +326,16 @@ struct Shade<'a, 's, S> {
 }
 
 /// A batch's shaded lanes (`None` for the others).
-struct Shaded<'a, 's, S> {
-    shades: &'a [Option<Shade<'a, 's, S>>; BATCH],
-}
+type Shaded<'a, 's, S> = [Option<Shade<'a, 's, S>>; BATCH];
 
 /// The colours of the lanes that met a surface, with what shading them needs.
 #[inline(always)]
 fn lit<'a, 's, S: Scalar>(
     out: &'a mut [Vec3<S>; BATCH],
-    shaded: &Shaded<'a, 's, S>,
+    shaded: &'a Shaded<'a, 's, S>,
 ) -> impl Iterator<Item = (&'a mut Vec3<S>, &'a Shade<'a, 's, S>)> {
     out.iter_mut()
-        .zip(shaded.shades)
+        .zip(shaded)
         .filter_map(|(c, shade)| Some((c, shade.as_ref()?)))
 }
 

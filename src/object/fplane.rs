@@ -62,7 +62,15 @@ pub struct Rect<S> {
     /// the axis each reads (as [`Plane::read_axis`]'s code: twice the coordinate, plus one
     /// for the negative direction).
     axes: Option<[u8; 2]>,
+    /// With [`axes`](Self::axes): the normal's, `u`'s and `v`'s codes, and the pair of the
+    /// normal's and `u`'s axes as `3 n + x` (the table's own, see
+    /// [`fplane_axes_hits`]), so that a test checks one byte; else `NO_PAIR`.
+    codes: [u8; 3],
+    pair: u8,
 }
+
+/// [`Rect`]'s `pair` of a rectangle off the axes.
+const NO_PAIR: u8 = u8::MAX;
 
 impl<S: Scalar> Rect<S> {
     /// Checks a definition: a plane's checks, `xdir` not along the normal, positive size.
@@ -115,6 +123,10 @@ impl<S: Scalar> Rect<S> {
             }
             _ => None,
         };
+        let (codes, pair) = match (plane.read_axis(), axes) {
+            (Some(n), Some([x, y])) => ([n, x, y], 3 * (n / 2) + x / 2),
+            _ => ([0; 3], NO_PAIR),
+        };
         Self {
             plane,
             xdir,
@@ -122,6 +134,8 @@ impl<S: Scalar> Rect<S> {
             u,
             v,
             axes,
+            codes,
+            pair,
         }
     }
 
@@ -329,14 +343,12 @@ pub fn fplane_axes_hits<S: Scalar, const N: u8, const X: u8>(
     limit: S,
 ) -> Option<S> {
     match obj.shape() {
-        Shape::FPlane(rect) => match (rect.plane.read_axis(), rect.axes) {
-            (Some(n), Some([x, y])) if n / 2 == N && x / 2 == X => {
-                rect.nearest_on_known_axes([N, X, 3 - N - X], [n, x, y], ray, limit)
-            }
-            // Not a rectangle this table is installed on: it misses (so that a table chosen
-            // wrongly shows in the tests against the general test, every pair of axes).
-            _ => None,
-        },
+        // One byte says whether the table fits the rectangle; one it is not installed on
+        // misses (so that a table chosen wrongly shows in the tests against the general
+        // test, every pair of axes).
+        Shape::FPlane(rect) if rect.pair == 3 * N + X => {
+            rect.nearest_on_known_axes([N, X, 3 - N - X], rect.codes, ray, limit)
+        }
         _ => None,
     }
 }

@@ -116,8 +116,9 @@ pub fn tiled_plane_material<S: Scalar>(obj: &Object<S>, point: Vec3<S>) -> Mater
 }
 
 /// `surface` of a tiled plane: the plane's normal, the material of the tile (the shape
-/// matched once: the kind's table is installed only on tiled planes).
-#[inline]
+/// matched once: the kind's table is installed only on tiled planes). Always inlined into
+/// the batch, whose copies would otherwise call it.
+#[inline(always)]
 pub fn tiled_plane_surface<'s, S: Scalar>(
     obj: &Object<S>,
     palette: &Palette<'s, S>,

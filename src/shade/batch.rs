@@ -79,11 +79,21 @@ impl<S: Scalar> Shader<'_, S> {
             *out = [Vec3::ZERO; BATCH];
             return;
         }
-        self.shade_lanes(&lanes, out);
+        // The scenes that try the side test before their shadow rays (see `sides`) get a
+        // copy of their own, so that the others' loops are compiled as without it.
+        if self.plane_sides.is_some() && self.stages.shadows && !self.filters_shadows() {
+            self.shade_lanes::<true>(&lanes, out);
+        } else {
+            self.shade_lanes::<false>(&lanes, out);
+        }
     }
 
     /// [`trace`](Self::trace) for each lane.
-    fn trace_lanes(&self, lanes: &mut [Option<Lane<S>>; BATCH], out: &mut [Vec3<S>; BATCH]) {
+    fn trace_lanes<const SIDES: bool>(
+        &self,
+        lanes: &mut [Option<Lane<S>>; BATCH],
+        out: &mut [Vec3<S>; BATCH],
+    ) {
         if lanes.iter().flatten().count() < SPARSE {
             for (c, lane) in out.iter_mut().zip(lanes.iter()) {
                 *c = lane.map_or(Vec3::ZERO, |l| self.trace(&l.ray, l.total, l.left, l.depth));
@@ -118,11 +128,16 @@ impl<S: Scalar> Shader<'_, S> {
             }
             lane.hit = search(lane);
         }
-        self.shade_lanes(lanes, out);
+        self.shade_lanes::<SIDES>(lanes, out);
     }
 
     /// [`shade`](Self::shade) for each lane that meets an object; black for the others.
-    fn shade_lanes(&self, lanes: &[Option<Lane<S>>; BATCH], out: &mut [Vec3<S>; BATCH]) {
+    /// `SIDES`: with the side test before the shadow rays (see `sides`).
+    fn shade_lanes<const SIDES: bool>(
+        &self,
+        lanes: &[Option<Lane<S>>; BATCH],
+        out: &mut [Vec3<S>; BATCH],
+    ) {
         // Every surface, then every own light: the chains of the batch side by side. The
         // surfaces are written where they stay (they are large to move).
         let mut surfaces: [Option<Surface<'_, S>>; BATCH] = [None; BATCH];
@@ -155,17 +170,17 @@ impl<S: Scalar> Shader<'_, S> {
                 }
             }
         }
-        self.own_lights(&shades, out);
+        self.own_lights::<SIDES>(&shades, out);
         // Then what the mirrors show, then what lies behind transparent surfaces, in the
         // order `beyond` adds them.
         // (Each stage asked first, so that a render without it does not even clear its
         // lanes.)
         if self.any_mirrors() {
-            self.leaving(&shades, out, |s, m| s.mirrors(m), mirror_ray, with_mirror);
+            self.leaving::<SIDES>(&shades, out, |s, m| s.mirrors(m), mirror_ray, with_mirror);
         }
         if self.any_transmits() {
             let through = |s: &Self, m: &Material<S>| s.transmits(m);
-            self.leaving(&shades, out, through, through_ray, with_behind);
+            self.leaving::<SIDES>(&shades, out, through, through_ray, with_behind);
         }
     }
 
@@ -174,7 +189,11 @@ impl<S: Scalar> Shader<'_, S> {
     /// the lanes' shadow rays to one light run side by side (each lane adds its lights in
     /// the same order as [`local`](Self::local)).
     #[inline(always)]
-    fn own_lights(&self, shaded: &Shaded<'_, '_, S>, out: &mut [Vec3<S>; BATCH]) {
+    fn own_lights<const SIDES: bool>(
+        &self,
+        shaded: &Shaded<'_, '_, S>,
+        out: &mut [Vec3<S>; BATCH],
+    ) {
         for c in out.iter_mut() {
             *c = Vec3::ZERO;
         }
@@ -193,27 +212,36 @@ impl<S: Scalar> Shader<'_, S> {
         }
         // Two copies of the loop, the common one without the walk through transparent
         // objects (it would take registers from the loop).
-        if self.filters_shadows() {
-            self.add_lights(shaded, out, true);
+        if SIDES {
+            self.add_lights(shaded, out, false, true);
+        } else if self.filters_shadows() {
+            self.add_lights(shaded, out, true, false);
         } else {
-            self.add_lights(shaded, out, false);
+            self.add_lights(shaded, out, false, false);
         }
     }
 
     /// Adds every light's diffuse and glint to each shaded lane's colour in `out`, the
     /// lights in the outer loop (see [`own_lights`](Self::own_lights)).
     #[inline(always)]
-    fn add_lights(&self, shaded: &Shaded<'_, '_, S>, out: &mut [Vec3<S>; BATCH], filtered: bool) {
+    fn add_lights(
+        &self,
+        shaded: &Shaded<'_, '_, S>,
+        out: &mut [Vec3<S>; BATCH],
+        filtered: bool,
+        by_sides: bool,
+    ) {
         // Each light's place known where its loop is written, so that no lane asks.
+        let tests = Tests { filtered, by_sides };
         match self.lights {
             [] => {}
-            [only] => self.add_light_copy(only, shaded, out, [true, true], filtered),
+            [only] => self.add_light_copy(only, shaded, out, [true, true], tests),
             [first, middle @ .., last] => {
-                self.add_light_copy(first, shaded, out, [true, false], filtered);
+                self.add_light_copy(first, shaded, out, [true, false], tests);
                 for light in middle {
-                    self.add_light_copy(light, shaded, out, [false, false], filtered);
+                    self.add_light_copy(light, shaded, out, [false, false], tests);
                 }
-                self.add_light_copy(last, shaded, out, [false, true], filtered);
+                self.add_light_copy(last, shaded, out, [false, true], tests);
             }
         }
     }
@@ -228,13 +256,48 @@ impl<S: Scalar> Shader<'_, S> {
         shaded: &Shaded<'_, '_, S>,
         out: &mut [Vec3<S>; BATCH],
         [first, last]: [bool; 2],
-        filtered: bool,
+        Tests { filtered, by_sides }: Tests,
     ) {
         let ends = Ends { first, last };
-        if self.is_plain(light) {
+        if by_sides {
+            if self.is_plain(light) {
+                self.add_light_by_sides(light, shaded, out, ends, true);
+            } else {
+                self.add_light_by_sides(light, shaded, out, ends, false);
+            }
+        } else if self.is_plain(light) {
             self.add_light(light, shaded, out, ends, filtered, true);
         } else {
             self.add_light(light, shaded, out, ends, filtered, false);
+        }
+    }
+
+    /// [`add_light`](Self::add_light) without transparent objects, the shadow rays of the
+    /// lanes that the side test clears left out (see `sides`).
+    #[inline(always)]
+    fn add_light_by_sides(
+        &self,
+        light: &Light<S>,
+        shaded: &Shaded<'_, '_, S>,
+        out: &mut [Vec3<S>; BATCH],
+        ends: Ends,
+        plain: bool,
+    ) {
+        // The side test first, in a loop of its own.
+        let mut clear = [false; BATCH];
+        if let Some(sides) = self.sides_of(light) {
+            for (clear, shade) in clear.iter_mut().zip(shaded) {
+                if let Some(shade) = shade {
+                    *clear = sides.clear(shade.surface.hit.point, shade.onward.index);
+                }
+            }
+        }
+        for ((c, shade), clear) in out.iter_mut().zip(shaded).zip(clear) {
+            let Some(shade) = shade else { continue };
+            let (surface, onward) = (shade.surface, &shade.onward);
+            let eye = &shade.ray.base;
+            let shine = self.illuminate(light, onward.index, surface, eye, false, plain, clear);
+            ends.add(c, surface.ambient, shine, onward.total);
         }
     }
 
@@ -262,18 +325,16 @@ impl<S: Scalar> Shader<'_, S> {
                 &shade.ray.base,
                 filtered,
                 plain,
+                false,
             );
-            // The colour so far read after the light's shadow test, not kept across it.
-            let before = if ends.first { surface.ambient } else { *c };
-            let sum = before + shine;
-            *c = if ends.last { sum / onward.total } else { sum };
+            ends.add(c, surface.ambient, shine, onward.total);
         }
     }
 
     /// Traces the rays leaving the shaded hits whose material `leaves` says so (`ray` makes
     /// them) and adds what they see to their colours in `out` (as `add` says).
     #[inline(always)]
-    fn leaving(
+    fn leaving<const SIDES: bool>(
         &self,
         shaded: &Shaded<'_, '_, S>,
         out: &mut [Vec3<S>; BATCH],
@@ -296,7 +357,7 @@ impl<S: Scalar> Shader<'_, S> {
             return;
         }
         let mut seen = [Vec3::ZERO; BATCH];
-        self.trace_lanes(&mut next, &mut seen);
+        self.trace_lanes::<SIDES>(&mut next, &mut seen);
         // The same test as above (`trace_lanes` drops the lanes it stops: they add black).
         for ((c, seen), shade) in out.iter_mut().zip(&seen).zip(shaded) {
             if let Some(shade) = shade {
@@ -306,6 +367,26 @@ impl<S: Scalar> Shader<'_, S> {
             }
         }
     }
+}
+
+impl Ends {
+    /// Adds a light's `shine` to the colour so far `c` (to `ambient` for the first light),
+    /// divided by the distance travelled after the last. The colour so far is read after
+    /// the light's shadow test, not kept across it.
+    #[inline(always)]
+    fn add<S: Scalar>(self, c: &mut Vec3<S>, ambient: Vec3<S>, shine: Vec3<S>, total: S) {
+        let before = if self.first { ambient } else { *c };
+        let sum = before + shine;
+        *c = if self.last { sum / total } else { sum };
+    }
+}
+
+/// How a batch's shadow rays are tested: through transparent objects (`filtered`), or
+/// after the side test (`by_sides`, see `sides`).
+#[derive(Clone, Copy)]
+struct Tests {
+    filtered: bool,
+    by_sides: bool,
 }
 
 /// Where a light stands in the order the lights are added.

@@ -35,6 +35,8 @@ use core::sync::atomic::AtomicU16;
 mod batch;
 mod row;
 #[cfg(feature = "batch")]
+mod sides;
+#[cfg(feature = "batch")]
 pub use batch::BATCH;
 pub use row::{ROW_LEVELS, ROW_LIGHTS, RowShading};
 
@@ -86,6 +88,9 @@ pub struct Shader<'s, S: Scalar> {
     stages: Stages,
     among: Among<'s, S>,
     shadow_cache: Option<&'s ShadowCache>,
+    /// The side tests the batch tries before shadow rays, where they can pay (see `sides`).
+    #[cfg(feature = "batch")]
+    plane_sides: Option<sides::LightSides>,
 }
 
 impl<'s, S: Scalar> Shader<'s, S> {
@@ -100,6 +105,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
             stages: Stages::ALL,
             among: Among::All,
             shadow_cache: None,
+            #[cfg(feature = "batch")]
+            plane_sides: sides::LightSides::new(objects, lights),
         }
     }
 
@@ -117,12 +124,23 @@ impl<'s, S: Scalar> Shader<'s, S> {
 
     /// The shadow cache's slot of `light` (one of the shader's lights), if there is one.
     fn remembered(&self, light: &Light<S>) -> Option<&AtomicU16> {
-        // Its index from its address: the light loops pass references into `lights`, and
-        // threading an index through them costs every scene registers (measured).
+        self.shadow_cache
+            .and_then(|cache| cache.last.get(self.light_number(light)))
+    }
+
+    /// The place of `light` (one of the shader's lights) in their list, from its address:
+    /// the light loops pass references into `lights`, and threading an index through them
+    /// costs every scene registers (measured).
+    fn light_number(&self, light: &Light<S>) -> usize {
         let offset =
             (light as *const Light<S> as usize).wrapping_sub(self.lights.as_ptr() as usize);
-        let n = offset / core::mem::size_of::<Light<S>>().max(1);
-        self.shadow_cache.and_then(|cache| cache.last.get(n))
+        offset / core::mem::size_of::<Light<S>>().max(1)
+    }
+
+    /// The side test of `light` (one of the shader's lights), if the batch tries one.
+    #[cfg(feature = "batch")]
+    fn sides_of(&self, light: &Light<S>) -> Option<&sides::Sides> {
+        self.plane_sides.as_ref()?.of(self.light_number(light))
     }
 
     /// The same shader running only `stages` and testing rays only against `among` (a
@@ -342,7 +360,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         }
         let filtered = self.filters_shadows();
         for light in self.lights {
-            c = c + self.illuminate(light, index, surface, &eye, filtered, false);
+            c = c + self.illuminate(light, index, surface, &eye, filtered, false, false);
         }
         c
     }
@@ -379,6 +397,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         eye: &Vec3<S>,
         filtered: bool,
         plain: bool,
+        clear: bool,
     ) -> Vec3<S> {
         let hit = &surface.hit;
         let to_light = light.location - hit.point;
@@ -417,8 +436,9 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 return Vec3::ZERO;
             };
             filter = Some(through);
-        } else if self.stages.shadows {
-            // Nothing is transparent: the first blocker decides, whichever it is.
+        } else if self.stages.shadows && !clear {
+            // Nothing is transparent: the first blocker decides, whichever it is (`clear`:
+            // no object can block, known without the test).
             let shadow = Ray::with_length(hit.point, l, S::ONE);
             let z = self.z_limit;
             let last = self.remembered(light);

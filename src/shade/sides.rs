@@ -1,11 +1,12 @@
 //! Shadow rays no object can block, found before they are cast (feature `batch`, `f64`).
 //!
 //! A plane blocks the way from a hit point `P` to a light `L` only if the two lie on
-//! opposite sides of it. Where every object of a scene is a plane (plain or tiled, or a
-//! finite plane, whose test starts with its plane's), and `P` and `L` lie clearly on the
-//! same side of each but the one `P` is on, the shadow test would miss them all, and the
-//! batch leaves it out (tplane4: every pixel, the tiled plane's test and the walk around
-//! it, about 80 instructions, for a side test of about 40).
+//! opposite sides of it. Where every object of a scene is a plane, and `P` and `L` lie
+//! clearly on the same side of each but the one `P` is on, the shadow test would miss them
+//! all, and the batch leaves it out (tplane4: every pixel, the tiled plane's test and the
+//! walk around it, about 80 instructions, for a side test of about 40). The reasoning
+//! holds for finite planes too (their test starts with their plane's; the tests below try
+//! them), but [`worth_it`] keeps the side test to scenes of infinite planes, where it pays.
 //!
 //! "Clearly": farther from the plane than `2^-40 s`, where `s = |N.point| + |L|_1 +
 //! |P|_1` is the size of the coordinates involved. With `u = 2^-53`, each value the shadow
@@ -20,7 +21,7 @@
 
 use crate::light::Light;
 use crate::object::plane::Plane;
-use crate::object::{Among, Object, Shape};
+use crate::object::{Object, Shape};
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;
 
@@ -51,12 +52,10 @@ pub(crate) fn worth_it<S: Scalar>(objects: &[Object<S>]) -> bool {
 /// The most lights the side test is prepared for.
 pub(crate) const MAX_LIGHTS: usize = 4;
 
-/// Each light's [`Sides`] of all the scene's objects, worked out once (a row's set is a
-/// part of them: a plane left out of it is tested here all the same, which only clears
-/// fewer lanes).
+/// Each light's [`Sides`], worked out once a render.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct LightSides {
-    sides: [Sides; MAX_LIGHTS],
+    sides: [Option<Sides>; MAX_LIGHTS],
 }
 
 impl LightSides {
@@ -65,20 +64,16 @@ impl LightSides {
         if !(S::COURSE_ORDER && lights.len() <= MAX_LIGHTS && worth_it(objects)) {
             return None;
         }
-        let mut all = Self {
-            sides: [Sides::EMPTY; MAX_LIGHTS],
-        };
-        for (sides, light) in all.sides.iter_mut().zip(lights) {
-            if !sides.fill(objects, &Among::All, light.location) {
-                return None;
-            }
+        let mut sides = [None; MAX_LIGHTS];
+        for (sides, light) in sides.iter_mut().zip(lights) {
+            *sides = Some(Sides::new(objects, light.location)?);
         }
-        Some(all)
+        Some(Self { sides })
     }
 
     /// The side test of light `n`.
     pub(crate) fn of(&self, n: usize) -> Option<&Sides> {
-        self.sides.get(n)
+        self.sides.get(n)?.as_ref()
     }
 }
 
@@ -97,52 +92,35 @@ pub(crate) struct Sides {
 }
 
 impl Sides {
-    /// No planes.
-    pub(crate) const EMPTY: Self = Self {
-        count: 0,
-        index: [usize::MAX; MAX_PLANES],
-        normal: [[0.0; 3]; MAX_PLANES],
-        n_dot_point: [0.0; MAX_PLANES],
-        size: 0.0,
-        nearest: f64::INFINITY,
-    };
-
-    /// The set `among` of `objects` seen from a light at `light`; false (and some planes
-    /// left out) where the set is not all planes, has more than [`MAX_PLANES`] or is a tree.
-    pub(crate) fn fill<S: Scalar>(
-        &mut self,
-        objects: &[Object<S>],
-        among: &Among<'_, S>,
-        light: Vec3<S>,
-    ) -> bool {
-        // Only what is read is reset (the arrays are read up to `count`).
-        self.count = 0;
-        self.size = 0.0;
-        self.nearest = f64::INFINITY;
+    /// Every one of `objects` seen from a light at `light` (a shadow ray's set is some of
+    /// them: a plane it leaves out is tested here all the same, which only clears fewer
+    /// lanes); `None` where they are not all planes or more than [`MAX_PLANES`].
+    pub(crate) fn new<S: Scalar>(objects: &[Object<S>], light: Vec3<S>) -> Option<Self> {
+        let mut sides = Self {
+            count: 0,
+            index: [usize::MAX; MAX_PLANES],
+            normal: [[0.0; 3]; MAX_PLANES],
+            n_dot_point: [0.0; MAX_PLANES],
+            size: 0.0,
+            nearest: f64::INFINITY,
+        };
         let light = light.to_f64();
         let light_size = light.x.abs() + light.y.abs() + light.z.abs();
-        let mut add = |index: usize| -> Option<()> {
-            let plane = plane_of(objects.get(index)?)?;
-            let k = self.count;
+        for (index, object) in objects.iter().enumerate() {
+            let plane = plane_of(object)?;
             let normal = plane.unit_normal.to_f64();
             let n_dot_point = plane.n_dot_point.to_f64();
             let light_side = n_dot_point - normal.dot(light);
             // Turned by a sign: the side test's values change sign only, not magnitude.
             let turn = if light_side < 0.0 { -1.0 } else { 1.0 };
-            *self.index.get_mut(k)? = index;
-            *self.normal.get_mut(k)? = [normal.x * turn, normal.y * turn, normal.z * turn];
-            *self.n_dot_point.get_mut(k)? = n_dot_point * turn;
-            self.size = self.size.max(n_dot_point.abs() + light_size);
-            self.nearest = self.nearest.min(light_side.abs());
-            self.count += 1;
-            Some(())
-        };
-        let all = match *among {
-            Among::All => (0..objects.len()).try_for_each(&mut add),
-            Among::Only(list) => list.iter().try_for_each(|&i| add(usize::from(i))),
-            Among::Tree(_) => None,
-        };
-        all.is_some()
+            *sides.index.get_mut(index)? = index;
+            *sides.normal.get_mut(index)? = [normal.x * turn, normal.y * turn, normal.z * turn];
+            *sides.n_dot_point.get_mut(index)? = n_dot_point * turn;
+            sides.size = sides.size.max(n_dot_point.abs() + light_size);
+            sides.nearest = sides.nearest.min(light_side.abs());
+            sides.count += 1;
+        }
+        Some(sides)
     }
 
     /// Whether no plane of the set but `own` (the one the point lies on) can block the way
@@ -211,8 +189,7 @@ mod tests {
             Vec3::new(light[0], light[1], light[2]),
         );
         for object in &objects {
-            let mut sides = Sides::EMPTY;
-            assert!(sides.fill(core::slice::from_ref(object), &Among::All, light));
+            let sides = Sides::new(core::slice::from_ref(object), light).unwrap();
             if sides.clear(p, usize::MAX) {
                 assert!(
                     !blocked(object, p, light),

@@ -58,13 +58,12 @@ pub struct Rect<S> {
     pub u: Vec3<S>,
     /// Local y axis.
     pub v: Vec3<S>,
-    /// Where the plane reads its normal off an axis and `u` and `v` lie along axes too:
-    /// the axis each reads (as [`Plane::read_axis`]'s code: twice the coordinate, plus one
-    /// for the negative direction).
-    axes: Option<[u8; 2]>,
-    /// With [`axes`](Self::axes): the normal's, `u`'s and `v`'s codes, and the pair of the
-    /// normal's and `u`'s axes as `3 n + x` (the table's own, see
-    /// [`fplane_axes_hits`]), so that a test checks one byte; else `NO_PAIR`.
+    /// Where the plane reads its normal off an axis and `u` and `v` lie along axes too
+    /// ([`axes`](Self::axes)): the axis each of the normal, `u` and `v` reads (as
+    /// [`Plane::read_axis`]'s code: twice the coordinate, plus one for the negative
+    /// direction), and the pair of the normal's and `u`'s axes as `3 n + x` (the table's
+    /// own, see [`fplane_axes_hits`]), so that a test checks one byte; else `NO_PAIR`.
+    /// Four bytes, which fit where the object slot had room (firmware keeps arrays of them).
     codes: [u8; 3],
     pair: u8,
 }
@@ -133,7 +132,6 @@ impl<S: Scalar> Rect<S> {
             dimensions,
             u,
             v,
-            axes,
             codes,
             pair,
         }
@@ -143,7 +141,8 @@ impl<S: Scalar> Rect<S> {
     /// (codes as [`Plane::read_axis`]'s): the finite plane then gets a table whose `hits`
     /// reads them (see [`fplane_vtable`](Self::fplane_vtable)).
     pub fn axes(&self) -> Option<[u8; 2]> {
-        self.axes
+        let [_, x, y] = self.codes;
+        (self.pair != NO_PAIR).then_some([x, y])
     }
 
     /// [`nearest`](Self::nearest) for a rectangle on [`axes`](Self::axes), with the axes'
@@ -298,7 +297,7 @@ impl<S: Scalar> Rect<S> {
 
     /// The table that fits this rectangle as a finite plane.
     pub fn fplane_vtable(&self) -> &'static ObjectVTable<S> {
-        let pair = match (self.plane.read_axis(), self.axes) {
+        let pair = match (self.plane.read_axis(), self.axes()) {
             (Some(n), Some([x, _])) if cfg!(feature = "batch") => Some((n / 2, x / 2)),
             _ => None,
         };

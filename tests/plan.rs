@@ -393,3 +393,26 @@ mod random_rooms {
         assert_eq!(check::<I16F16>(&room).unwrap(), 36);
     }
 }
+
+/// The batch's side test before shadow rays (`src/shade/sides.rs`) on a scene made for it:
+/// four infinite planes, three leaning, a mirror, hit points in shadow and in light, and a
+/// light 1e-10 from a plane. `f64` only (the side test's only type); the scene is not among
+/// the parity scenes, which it would fail on purpose (a light that close to a plane is
+/// on either side of it in `f32` and Q16.16).
+#[test]
+fn side_tests_change_no_pixel() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/sides/leaning_planes.txt");
+    let scene = load::<f64>(&path);
+    // Planned `f64` colour rows are shaded in batches (`render::shade_batches`; no row is
+    // at one `t`, see above), the side test's place.
+    let planned: HostRenderer<'_, f64> = Renderer::new(&scene);
+    let unplanned = planned.clone().with_plan(false);
+    let (a, b) = (image(&planned), image(&unplanned));
+    let differing = a
+        .rgb()
+        .chunks(3)
+        .zip(b.rgb().chunks(3))
+        .filter(|(x, y)| x != y)
+        .count();
+    assert_eq!(differing, 0, "pixels that differ with the side test");
+}

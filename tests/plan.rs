@@ -6,7 +6,7 @@
 mod common;
 
 use microray::Scalar;
-use microray::host::{HostRenderer, HostScene, texture_files};
+use microray::host::{Framebuffer, HostRenderer, HostScene, texture_files};
 use microray::parse::parse_scene;
 use microray::plan::Stages;
 use microray::render::{Renderer, Shading};
@@ -52,14 +52,10 @@ fn identical_with_and_without_plan<S: Scalar>() -> Skipped {
         let planned: HostRenderer<'_, S> = Renderer::new(&scene);
         let unplanned = planned.clone().with_plan(false);
         for shading in [Shading::Color, Shading::Ids] {
-            let a = image(&planned.clone().with_shading(shading));
-            let b = image(&unplanned.clone().with_shading(shading));
-            let differing = a
-                .rgb()
-                .chunks(3)
-                .zip(b.rgb().chunks(3))
-                .filter(|(p, q)| p != q)
-                .count();
+            let differing = differing_pixels(
+                &image(&planned.clone().with_shading(shading)),
+                &image(&unplanned.clone().with_shading(shading)),
+            );
             assert_eq!(
                 differing,
                 0,
@@ -407,12 +403,15 @@ fn side_tests_change_no_pixel() {
     // at one `t`, see above), the side test's place.
     let planned: HostRenderer<'_, f64> = Renderer::new(&scene);
     let unplanned = planned.clone().with_plan(false);
-    let (a, b) = (image(&planned), image(&unplanned));
-    let differing = a
-        .rgb()
+    let differing = differing_pixels(&image(&planned), &image(&unplanned));
+    assert_eq!(differing, 0, "pixels that differ with the side test");
+}
+
+/// Pixels where two images of one size differ.
+fn differing_pixels(a: &Framebuffer, b: &Framebuffer) -> usize {
+    a.rgb()
         .chunks(3)
         .zip(b.rgb().chunks(3))
-        .filter(|(x, y)| x != y)
-        .count();
-    assert_eq!(differing, 0, "pixels that differ with the side test");
+        .filter(|(p, q)| p != q)
+        .count()
 }

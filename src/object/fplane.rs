@@ -297,18 +297,15 @@ impl<S: Scalar> Rect<S> {
 
     /// The table that fits this rectangle as a finite plane.
     pub fn fplane_vtable(&self) -> &'static ObjectVTable<S> {
-        let pair = match (self.plane.read_axis(), self.axes()) {
-            (Some(n), Some([x, _])) if cfg!(feature = "batch") => Some((n / 2, x / 2)),
-            _ => None,
-        };
-        // In the order of `AXES_VTABLES`.
-        let table = match pair {
-            Some((0, 1)) => Self::AXES_VTABLES.first(),
-            Some((0, 2)) => Self::AXES_VTABLES.get(1),
-            Some((1, 0)) => Self::AXES_VTABLES.get(2),
-            Some((1, 2)) => Self::AXES_VTABLES.get(3),
-            Some((2, 0)) => Self::AXES_VTABLES.get(4),
-            Some((2, 1)) => Self::AXES_VTABLES.get(5),
+        // By the pair `3 n + x` the tables check, in the order of `AXES_VTABLES`.
+        let table = match self.pair {
+            _ if !cfg!(feature = "batch") => None,
+            1 => Self::AXES_VTABLES.first(),
+            2 => Self::AXES_VTABLES.get(1),
+            3 => Self::AXES_VTABLES.get(2),
+            5 => Self::AXES_VTABLES.get(3),
+            6 => Self::AXES_VTABLES.get(4),
+            7 => Self::AXES_VTABLES.get(5),
             _ => None,
         };
         table.unwrap_or(&Self::VTABLE)

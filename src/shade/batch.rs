@@ -273,7 +273,9 @@ impl<S: Scalar> Shader<'_, S> {
     }
 
     /// [`add_light`](Self::add_light) without transparent objects, the shadow rays of the
-    /// lanes that the side test clears left out (see `sides`).
+    /// lanes that the side test clears left out (see `sides`). A loop of its own rather
+    /// than a flag threaded through `add_light`'s: that cost the other scenes' copies their
+    /// registers (+7 to +42 % instructions, `docs/host-speed-log.md`).
     #[inline(always)]
     fn add_light_by_sides(
         &self,

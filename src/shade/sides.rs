@@ -25,8 +25,8 @@ use crate::object::{Object, Shape};
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;
 
-/// The most planes a shadow ray's set may have for the side test: a few dot products a
-/// pixel, against the shadow test's call for each.
+/// The most planes a scene may have for the side test: a few dot products a pixel,
+/// against the shadow test's call for each.
 pub(crate) const MAX_PLANES: usize = 4;
 
 /// `2^-40`: how far from a plane, relative to the coordinates' size, a point must be for
@@ -38,15 +38,11 @@ const MARGIN: f64 = 1.0 / 1_099_511_627_776.0;
 /// more than [`MAX_PLANES`], and one at least leans (a plane on an axis is tested by one
 /// coordinate, about as fast as the side test).
 pub(crate) fn worth_it<S: Scalar>(objects: &[Object<S>]) -> bool {
-    // The infinite planes' axes (`None` for a leaning one), or `None` for another kind.
-    let axis = |object: &Object<S>| match object.shape() {
-        Shape::Plane(plane) => Some(plane.axis),
-        Shape::TiledPlane(tiled) => Some(tiled.rect.plane.axis),
-        _ => None,
-    };
     objects.len() <= MAX_PLANES
-        && objects.iter().all(|o| axis(o).is_some())
-        && objects.iter().any(|o| axis(o) == Some(None))
+        && objects.iter().all(|o| infinite_plane(o).is_some())
+        && objects
+            .iter()
+            .any(|o| infinite_plane(o).is_some_and(|p| p.axis.is_none()))
 }
 
 /// The most lights the side test is prepared for.
@@ -77,12 +73,11 @@ impl LightSides {
     }
 }
 
-/// The planes of a shadow ray's set, seen from one light: each one's normal and
-/// `N.point` turned so that the light's side is the positive one.
+/// A scene's planes seen from one light, in the objects' order (plane `k` is object `k`):
+/// each one's normal and `N.point` turned so that the light's side is the positive one.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Sides {
     count: usize,
-    index: [usize; MAX_PLANES],
     normal: [[f64; 3]; MAX_PLANES],
     n_dot_point: [f64; MAX_PLANES],
     /// The largest `|N.point| + |L|_1`.
@@ -98,7 +93,6 @@ impl Sides {
     pub(crate) fn new<S: Scalar>(objects: &[Object<S>], light: Vec3<S>) -> Option<Self> {
         let mut sides = Self {
             count: 0,
-            index: [usize::MAX; MAX_PLANES],
             normal: [[0.0; 3]; MAX_PLANES],
             n_dot_point: [0.0; MAX_PLANES],
             size: 0.0,
@@ -113,7 +107,6 @@ impl Sides {
             let light_side = n_dot_point - normal.dot(light);
             // Turned by a sign: the side test's values change sign only, not magnitude.
             let turn = if light_side < 0.0 { -1.0 } else { 1.0 };
-            *sides.index.get_mut(index)? = index;
             *sides.normal.get_mut(index)? = [normal.x * turn, normal.y * turn, normal.z * turn];
             *sides.n_dot_point.get_mut(index)? = n_dot_point * turn;
             sides.size = sides.size.max(n_dot_point.abs() + light_size);
@@ -129,11 +122,11 @@ impl Sides {
     pub(crate) fn clear<S: Scalar>(&self, point: Vec3<S>, own: usize) -> bool {
         let p = point.to_f64();
         let margin = (self.size + (p.x.abs() + p.y.abs() + p.z.abs())) * MARGIN;
-        let planes = self.index.iter().zip(&self.normal).zip(&self.n_dot_point);
+        let planes = self.normal.iter().zip(&self.n_dot_point).take(self.count);
         self.nearest > margin
             && planes
-                .take(self.count)
-                .all(|((&index, &[nx, ny, nz]), &n_dot_point)| {
+                .enumerate()
+                .all(|(index, (&[nx, ny, nz], &n_dot_point))| {
                     index == own || n_dot_point - (p.x * nx + p.y * ny + p.z * nz) > margin
                 })
     }
@@ -143,8 +136,15 @@ impl Sides {
 /// does.
 fn plane_of<S: Scalar>(object: &Object<S>) -> Option<&Plane<S>> {
     match object.shape() {
-        Shape::Plane(plane) => Some(plane),
         Shape::FPlane(rect) => Some(&rect.plane),
+        _ => infinite_plane(object),
+    }
+}
+
+/// The plane of an infinite plane, plain or tiled.
+fn infinite_plane<S: Scalar>(object: &Object<S>) -> Option<&Plane<S>> {
+    match object.shape() {
+        Shape::Plane(plane) => Some(plane),
         Shape::TiledPlane(tiled) => Some(&tiled.rect.plane),
         _ => None,
     }

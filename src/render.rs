@@ -518,8 +518,9 @@ fn shade_batches<S: Scalar, C: From<Rgb888>>(
     row: &mut [C],
 ) {
     use crate::shade::BATCH;
+    // Cleared once a row, not once a batch: every call writes all of it.
+    let mut colors = [Vec3::ZERO; BATCH];
     for slots in row.chunks_mut(BATCH) {
-        let mut colors = [Vec3::ZERO; BATCH];
         shader.primary_batch_in_row(&mut rays, slots.len(), tests, &mut colors);
         for (slot, c) in slots.iter_mut().zip(&colors) {
             *slot = bytes(*c).into();

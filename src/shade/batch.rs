@@ -51,7 +51,8 @@ struct Lane<S> {
 impl<S: Scalar> Shader<'_, S> {
     /// The colours seen along the next `count` (up to [`BATCH`]) primary rays of a row
     /// whose objects' tests are prepared: [`primary_in_row`](Self::primary_in_row) for
-    /// each, into `out`.
+    /// each, into `out`. Every entry of `out` is written (black past `count`), so the
+    /// caller need not clear it between batches.
     pub fn primary_batch_in_row(
         &self,
         rays: &mut RowRays<S>,

@@ -120,6 +120,7 @@ impl DrawTarget for Framebuffer {
         &mut self,
         pixels: I,
     ) -> Result<(), Infallible> {
+        let pixels = pixels.into_iter().map(|Pixel(p, c)| Pixel(p, c.into()));
         self.band().draw_iter(pixels)
     }
 
@@ -128,6 +129,7 @@ impl DrawTarget for Framebuffer {
         area: &embedded_graphics::primitives::Rectangle,
         colors: I,
     ) -> Result<(), Infallible> {
+        let colors = colors.into_iter().map(RgbBytes::from);
         self.band().fill_contiguous(area, colors)
     }
 }
@@ -380,7 +382,7 @@ fn render_bands<S: crate::Scalar, const OBJECTS: usize, E: Send>(
         _ => BAND_ROWS,
     };
     let work = |caller: bool| -> Result<(), StreamError<E>> {
-        let mut row = vec![Rgb888::BLACK; width];
+        let mut row = vec![RgbBytes::BLACK; width];
         let mut aa_buffer = match aa {
             Some(_) => vec![AaPixel::NEW; Antialias::buffer_len(size.width as u16)],
             None => Vec::new(),
@@ -586,23 +588,44 @@ impl OriginDimensions for Band<'_> {
     }
 }
 
+/// A pixel's bytes as the image holds them: the band's colour, so that the renderer's rows
+/// are copied in as they are (through an [`Rgb888`], each pixel was packed into a word and
+/// taken apart again: 10 instructions a pixel).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct RgbBytes([u8; 3]);
+
+impl RgbBytes {
+    const BLACK: Self = Self([0; 3]);
+}
+
+impl embedded_graphics::pixelcolor::PixelColor for RgbBytes {
+    type Raw = ();
+}
+
+impl From<Rgb888> for RgbBytes {
+    #[inline]
+    fn from(c: Rgb888) -> Self {
+        Self([c.r(), c.g(), c.b()])
+    }
+}
+
 impl DrawTarget for Band<'_> {
-    type Color = Rgb888;
+    type Color = RgbBytes;
     type Error = Infallible;
 
-    fn draw_iter<I: IntoIterator<Item = Pixel<Rgb888>>>(
+    fn draw_iter<I: IntoIterator<Item = Pixel<RgbBytes>>>(
         &mut self,
         pixels: I,
     ) -> Result<(), Infallible> {
-        for Pixel(p, c) in pixels {
+        for Pixel(p, RgbBytes(c)) in pixels {
             if let Some(slot) = self.at(p.x, p.y) {
-                slot.copy_from_slice(&[c.r(), c.g(), c.b()]);
+                slot.copy_from_slice(&c);
             }
         }
         Ok(())
     }
 
-    fn fill_contiguous<I: IntoIterator<Item = Rgb888>>(
+    fn fill_contiguous<I: IntoIterator<Item = RgbBytes>>(
         &mut self,
         area: &embedded_graphics::primitives::Rectangle,
         colors: I,
@@ -618,8 +641,8 @@ impl DrawTarget for Band<'_> {
                 let at = ((start.y as usize - self.top) * width + start.x as usize) * 3;
                 let end = at + area.size.width as usize * 3;
                 if let Some(run) = self.pixels.get_mut(at..end) {
-                    for (slot, c) in run.chunks_exact_mut(3).zip(colors) {
-                        slot.copy_from_slice(&[c.r(), c.g(), c.b()]);
+                    for (slot, RgbBytes(c)) in run.chunks_exact_mut(3).zip(colors) {
+                        slot.copy_from_slice(&c);
                     }
                 }
                 Ok(())

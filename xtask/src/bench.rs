@@ -199,6 +199,58 @@ const COURSE_SECONDS: [(&str, f64); 5] = [
     ("translucent3", 0.049),
 ];
 
+/// The commit whose `microray` the std tracer's issue timed beside the course's tracer (the
+/// last before the issue's work began). Run alternating with the builds of this run, it
+/// carries the issue's pair of figures onto them by ratio, a measure that holds however
+/// fast the machine is that day (identical binaries have run up to 40 % apart here).
+const ISSUE_COMMIT: &str = "0c1b966c676242123c371a4f1836d88833eb553b";
+
+/// The issue's CPU seconds for `microray` at [`ISSUE_COMMIT`] (one thread, the same runs as
+/// [`COURSE_SECONDS`]).
+const ISSUE_MICRORAY_SECONDS: [(&str, f64); 5] = [
+    ("fplane3", 0.033),
+    ("spec0", 0.027),
+    ("shiny3", 0.049),
+    ("tplane4", 0.031),
+    ("translucent3", 0.035),
+];
+
+/// `microray` as of [`ISSUE_COMMIT`]: its tree from `git archive` in
+/// `target/issue-build/src`, built there with its own lock file (kept between runs).
+fn issue_build(root: &Path) -> Result<PathBuf, String> {
+    let dir = root.join("target/issue-build");
+    let source = dir.join("src");
+    let stamp = source.join(".microray-commit");
+    if std::fs::read_to_string(&stamp).ok().as_deref() != Some(ISSUE_COMMIT) {
+        let _ = std::fs::remove_dir_all(&source);
+        std::fs::create_dir_all(&source).map_err(|e| e.to_string())?;
+        let archive = Command::new("git")
+            .arg("-C")
+            .arg(root)
+            .args(["archive", "--format=tar", ISSUE_COMMIT])
+            .output()
+            .map_err(|e| format!("git archive: {e}"))?;
+        if !archive.status.success() {
+            return Err(format!(
+                "git archive {ISSUE_COMMIT} failed (a shallow clone?): {}",
+                String::from_utf8_lossy(&archive.stderr).trim()
+            ));
+        }
+        let tar = dir.join("src.tar");
+        std::fs::write(&tar, &archive.stdout).map_err(|e| e.to_string())?;
+        qemu::checked(
+            Command::new("tar")
+                .arg("-xf")
+                .arg(&tar)
+                .arg("-C")
+                .arg(&source),
+        )?;
+        let _ = std::fs::remove_file(&tar);
+        std::fs::write(&stamp, ISSUE_COMMIT).map_err(|e| e.to_string())?;
+    }
+    crate::pgo::build_microray(&source, &dir.join("target"), "")
+}
+
 /// The wall-clock and CPU seconds (user and system) of one run of `command`.
 fn timed_run(command: &mut Command) -> Result<(f64, f64), String> {
     use nix::sys::resource::{UsageWho, getrusage};
@@ -216,6 +268,73 @@ fn timed_run(command: &mut Command) -> Result<(f64, f64), String> {
     Ok((wall, cpu()? - cpu_before))
 }
 
+/// The builds' one-thread CPU times against the issue's build's, run for run (both in the
+/// same round, so the pair saw the same machine), and the issue's figures carried by the
+/// median of those ratios: this build's time as a multiple of the course's tracer's.
+fn issue_report(
+    out: &mut String,
+    builds: &[(&str, PathBuf)],
+    times: &[BTreeMap<&str, [Vec<f64>; 3]>],
+    issue_cpu: &BTreeMap<&str, Vec<f64>>,
+) {
+    let _ = writeln!(
+        out,
+        "\nAgainst the build the issue timed ({}, its last commit before the issue's work), \
+         run alternating with the builds above, one thread, CPU seconds. Ratio: the median, \
+         over the runs, of a build's time over that build's in the same round. Carried onto \
+         the issue's pair of figures (the course's tracer, microray then), the ratio gives a \
+         build's time as a multiple of the course's tracer's, whatever the machine's speed \
+         that day. The issue asks for 3x: a ratio at or below the last column.\n",
+        &ISSUE_COMMIT[..7],
+    );
+    let mut header =
+        "| scene | course's tracer (s) | microray then (s) | that build now (s) |".to_string();
+    let mut rule = "|---|---|---|---|".to_string();
+    for (title, _) in builds {
+        let short = title
+            .split(" (")
+            .next()
+            .unwrap_or(title)
+            .trim_start_matches("The ");
+        let _ = write!(header, " {short}: now (s) | ratio | against the course's |");
+        rule.push_str("---|---|---|");
+    }
+    let _ = writeln!(out, "{header} ratio for 3x |\n{rule}---|");
+    let median = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v.get(v.len() / 2).copied().unwrap_or(0.0)
+    };
+    for name in PROCESS_SCENES {
+        let figure = |table: &[(&str, f64)]| table.iter().find(|(n, _)| *n == name).map(|f| f.1);
+        let (Some(course), Some(then), Some(old)) = (
+            figure(&COURSE_SECONDS),
+            figure(&ISSUE_MICRORAY_SECONDS),
+            issue_cpu.get(name),
+        ) else {
+            continue;
+        };
+        let mut row = format!(
+            "| {name} | {course:.3} | {then:.3} | {:.4} |",
+            median(old.clone())
+        );
+        for table in times {
+            let Some([cpu, _, _]) = table.get(name) else {
+                row.push_str(" — | — | — |");
+                continue;
+            };
+            let pairs = cpu.iter().zip(old).map(|(new, old)| new / old.max(1e-9));
+            let ratio = median(pairs.collect());
+            let _ = write!(
+                row,
+                " {:.4} | {ratio:.3} | {:.2}x |",
+                median(cpu.clone()),
+                course / (then * ratio).max(1e-9)
+            );
+        }
+        let _ = writeln!(out, "{row} {:.3} |", course / (3.0 * then));
+    }
+}
+
 /// Whole-process medians of `microray render SCENE -o OUT.ppm` (f64), with one thread and
 /// with every core, `runs` runs each, alternating, for the release build and, where
 /// `llvm-tools` can be had, the profile-guided one (`cargo xtask pgo`): CPU seconds (the
@@ -226,6 +345,58 @@ fn process_report(
     scenes: &BTreeMap<String, PathBuf>,
     runs: usize,
 ) -> Result<(), String> {
+    let binary = process_tables(out, root, scenes, runs)?;
+    // Where the time goes, per function: this build, and the one before the std tracer's
+    // batching (docs/host-profile-before.md, written by `cargo xtask host-profile`).
+    match host_profile::report(root, &binary, "this build", runs) {
+        Ok(now) => {
+            let _ = write!(out, "\n{now}");
+        }
+        // Not every machine lets a user sample (perf missing, perf_event_paranoid).
+        Err(e) => {
+            let _ = writeln!(out, "\n(No per-function profile of this build: {e}.)");
+        }
+    }
+    if let Ok(before) = std::fs::read_to_string(root.join("docs/host-profile-before.md")) {
+        let _ = write!(out, "\n{before}");
+    }
+    // The steps between the two, measured as they were made.
+    if let Ok(log) = std::fs::read_to_string(root.join("docs/host-speed-log.md")) {
+        let _ = write!(out, "\n{log}");
+    }
+    Ok(())
+}
+
+/// `cargo xtask host-bench [--runs N]`: the whole-process tables of `cargo xtask bench`
+/// alone (the release and profile-guided builds, one thread and all cores, and both against
+/// the issue's build), printed, not written to `docs/`: a few minutes instead of the full
+/// bench's twenty.
+pub fn host_run(args: &[String]) -> Result<(), String> {
+    let runs = match args {
+        [] => 21,
+        [flag, n] if flag == "--runs" => n
+            .parse::<usize>()
+            .ok()
+            .filter(|&n| n > 0)
+            .ok_or_else(|| format!("--runs takes a count above 0, not `{n}`"))?,
+        _ => return Err("usage: cargo xtask host-bench [--runs N]".into()),
+    };
+    let root = qemu::root()?;
+    let conformance = qemu::conformance_dir(&root);
+    let scenes = qemu::scene_files(&root, conformance.as_deref());
+    let mut out = String::new();
+    process_tables(&mut out, &root, &scenes, runs)?;
+    println!("{out}");
+    Ok(())
+}
+
+/// The timing tables of [`process_report`]; returns the release build's binary.
+fn process_tables(
+    out: &mut String,
+    root: &Path,
+    scenes: &BTreeMap<String, PathBuf>,
+    runs: usize,
+) -> Result<PathBuf, String> {
     let mut builds = vec![(
         "The release build (`cargo build --release`)",
         root.join("target/release/microray"),
@@ -242,6 +413,7 @@ fn process_report(
         Err(e) => Some(e),
     };
     qemu::cargo(&["build", "--release", "--bin", "microray"], root, &[])?;
+    let issue = issue_build(root);
     let output = std::env::temp_dir().join(format!("microray-bench-{}.ppm", std::process::id()));
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let _ = writeln!(
@@ -261,11 +433,24 @@ fn process_report(
     let thread_counts = ["1".to_string(), cores.to_string()];
     // Per build and scene: one thread's CPU and wall times, all cores' wall times.
     let mut times = vec![BTreeMap::<&str, [Vec<f64>; 3]>::new(); builds.len()];
+    // The issue's build, one thread (it has no `--threads`: it had one thread only).
+    let mut issue_cpu = BTreeMap::<&str, Vec<f64>>::new();
     for _ in 0..runs {
         for name in PROCESS_SCENES {
             let Some(path) = scenes.get(name) else {
                 continue;
             };
+            if let Ok(binary) = &issue {
+                let mut command = Command::new(binary);
+                command
+                    .arg("render")
+                    .arg(path)
+                    .arg("-o")
+                    .arg(&output)
+                    .arg("-q");
+                let (_, cpu) = timed_run(&mut command)?;
+                issue_cpu.entry(name).or_default().push(cpu);
+            }
             for (build, (_, binary)) in builds.iter().enumerate() {
                 for threads in &thread_counts {
                     let (wall, cpu) = timed_run(&mut crate::pgo::render_command(
@@ -286,6 +471,15 @@ fn process_report(
         v.sort_by(f64::total_cmp);
         v.get(v.len() / 2).copied().unwrap_or(0.0)
     };
+    // Written first, while each build's times are still in the order of the runs (the
+    // medians below sort them).
+    let mut issue_table = String::new();
+    match &issue {
+        Ok(_) => issue_report(&mut issue_table, &builds, &times, &issue_cpu),
+        Err(e) => {
+            let _ = writeln!(issue_table, "\n(No run of the issue's build: {e}.)");
+        }
+    }
     for ((title, _), mut table) in builds.iter().zip(times) {
         let _ = writeln!(
             out,
@@ -314,27 +508,9 @@ fn process_report(
             );
         }
     }
-    let binary = &builds[0].1;
+    out.push_str(&issue_table);
     let _ = std::fs::remove_file(&output);
-    // Where the time goes, per function: this build, and the one before the std tracer's
-    // batching (docs/host-profile-before.md, written by `cargo xtask host-profile`).
-    match host_profile::report(root, binary, "this build", runs) {
-        Ok(now) => {
-            let _ = write!(out, "\n{now}");
-        }
-        // Not every machine lets a user sample (perf missing, perf_event_paranoid).
-        Err(e) => {
-            let _ = writeln!(out, "\n(No per-function profile of this build: {e}.)");
-        }
-    }
-    if let Ok(before) = std::fs::read_to_string(root.join("docs/host-profile-before.md")) {
-        let _ = write!(out, "\n{before}");
-    }
-    // The steps between the two, measured as they were made.
-    if let Ok(log) = std::fs::read_to_string(root.join("docs/host-speed-log.md")) {
-        let _ = write!(out, "\n{log}");
-    }
-    Ok(())
+    Ok(builds.swap_remove(0).1)
 }
 
 /// The anti-aliasing modes of the host table, by benchmark name (`1`: the plain render; the

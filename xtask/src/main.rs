@@ -8,6 +8,8 @@
 //!   writes it to `docs/firmware.md`). `--compare-plan` renders each scene a second time
 //!   without the render plan (`SCENE+noplan`). Exits non-zero on any difference or failure.
 //! - `cargo xtask bench [--quick]`: run time against error (`docs/benchmarks.md`).
+//! - `cargo xtask host-bench [--runs N]`: the bench's whole-process tables alone (the std
+//!   tracer against the course's figures, directly and through the issue's build), printed.
 //! - `cargo xtask host-profile [--binary PATH] [--out FILE]`: the std tracer's time per
 //!   function (perf) on spec0 and tplane4.
 //! - `cargo xtask pgo`: the std tracer built with profile-guided optimisation, trained on
@@ -26,11 +28,13 @@ fn main() -> ExitCode {
     let result = match args.first().map(String::as_str) {
         Some("qemu") => qemu::run(&args[1..]),
         Some("bench") => bench::run(&args[1..]),
+        Some("host-bench") => bench::host_run(&args[1..]),
         Some("host-profile") => host_profile::run(&args[1..]),
         Some("pgo") => pgo::run(&args[1..]),
         _ => Err(
             "usage: cargo xtask qemu [--size WIDTHxHEIGHT] [--only SCENE,...] \
-                  [--build PREFIX] [--profile] [--compare-plan] | cargo xtask bench [--quick] | cargo xtask host-profile \
+                  [--build PREFIX] [--profile] [--compare-plan] | cargo xtask bench [--quick] | cargo xtask host-bench [--runs N] \
+                  | cargo xtask host-profile \
                   [--binary PATH] [--out FILE] [--title TEXT] [--runs N] | cargo xtask pgo"
                 .to_string(),
         ),

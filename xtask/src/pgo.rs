@@ -140,8 +140,13 @@ pub(crate) fn render_command(binary: &Path, scene: &Path, out: &Path, threads: &
     command
 }
 
-/// `cargo build --release --bin microray` into `target_dir` with `rustflags`; the binary.
-fn build_microray(root: &Path, target_dir: &Path, rustflags: &str) -> Result<PathBuf, String> {
+/// `cargo build --release --bin microray` of the tree at `root` into `target_dir` with
+/// `rustflags`; the binary.
+pub(crate) fn build_microray(
+    root: &Path,
+    target_dir: &Path,
+    rustflags: &str,
+) -> Result<PathBuf, String> {
     let dir = target_dir.to_string_lossy();
     let args = [
         "build",

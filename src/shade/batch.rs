@@ -13,7 +13,9 @@
 //! cache only changes which object a shadow ray tries first). A microcontroller executes in
 //! order and would only gain memory traffic: the firmware leaves the feature out.
 
-use super::{MAX_DEPTH, Onward, Shader, mirror_ray, through_ray, with_behind, with_mirror};
+use super::{
+    LightKind, MAX_DEPTH, Onward, Shader, mirror_ray, through_ray, with_behind, with_mirror,
+};
 use crate::camera::RowRays;
 use crate::light::Light;
 use crate::material::Material;
@@ -248,8 +250,9 @@ impl<S: Scalar> Shader<'_, S> {
     }
 
     /// [`add_light`](Self::add_light) for the light that is first and/or last or neither
-    /// (`[first, last]`), in a copy for point lights without glints, the common case, with
-    /// fewer values to keep, or in one for the others.
+    /// (`[first, last]`), in a copy for the light's [`LightKind`]: point lights without
+    /// glints, the common case, with the fewest values to keep; point lights with glints;
+    /// any other light.
     #[inline(always)]
     fn add_light_copy(
         &self,
@@ -260,16 +263,28 @@ impl<S: Scalar> Shader<'_, S> {
         Tests { filtered, by_sides }: Tests,
     ) {
         let ends = Ends { first, last };
-        if by_sides {
-            if self.is_plain(light) {
-                self.add_light_by_sides(light, shaded, out, ends, true);
-            } else {
-                self.add_light_by_sides(light, shaded, out, ends, false);
+        // Each kind a constant where its copy is written.
+        match (by_sides, self.light_kind(light)) {
+            (true, LightKind::Plain) => {
+                self.add_light_by_sides(light, shaded, out, ends, LightKind::Plain);
             }
-        } else if self.is_plain(light) {
-            self.add_light(light, shaded, out, ends, filtered, true);
-        } else {
-            self.add_light(light, shaded, out, ends, filtered, false);
+            (true, LightKind::PointWithGlints) => {
+                let kind = LightKind::PointWithGlints;
+                self.add_light_by_sides(light, shaded, out, ends, kind);
+            }
+            (true, LightKind::Any) => {
+                self.add_light_by_sides(light, shaded, out, ends, LightKind::Any);
+            }
+            (false, LightKind::Plain) => {
+                self.add_light(light, shaded, out, ends, filtered, LightKind::Plain);
+            }
+            (false, LightKind::PointWithGlints) => {
+                let kind = LightKind::PointWithGlints;
+                self.add_light(light, shaded, out, ends, filtered, kind);
+            }
+            (false, LightKind::Any) => {
+                self.add_light(light, shaded, out, ends, filtered, LightKind::Any);
+            }
         }
     }
 
@@ -284,7 +299,7 @@ impl<S: Scalar> Shader<'_, S> {
         shaded: &Shaded<'_, '_, S>,
         out: &mut [Vec3<S>; BATCH],
         ends: Ends,
-        plain: bool,
+        kind: LightKind,
     ) {
         // The side test first, in a loop of its own.
         let mut clear = [false; BATCH];
@@ -299,13 +314,13 @@ impl<S: Scalar> Shader<'_, S> {
             let Some(shade) = shade else { continue };
             let (surface, onward) = (shade.surface, &shade.onward);
             let eye = &shade.ray.base;
-            let shine = self.illuminate(light, onward.index, surface, eye, false, plain, clear);
+            let shine = self.illuminate(light, onward.index, surface, eye, false, kind, clear);
             ends.add(c, surface.ambient, shine, onward.total);
         }
     }
 
     /// Adds one light's diffuse and glint to each shaded lane's colour in `out` (see
-    /// [`illuminate`](Self::illuminate) for `filtered` and `plain`): to the ambient colour
+    /// [`illuminate`](Self::illuminate) for `filtered` and `kind`): to the ambient colour
     /// for the first light, and divided by the distance travelled after the last, the same
     /// operations as loops of their own in one pass over the lanes.
     #[allow(clippy::too_many_arguments)]
@@ -317,7 +332,7 @@ impl<S: Scalar> Shader<'_, S> {
         out: &mut [Vec3<S>; BATCH],
         ends: Ends,
         filtered: bool,
-        plain: bool,
+        kind: LightKind,
     ) {
         for (c, shade) in lit(out, shaded) {
             let (surface, onward) = (shade.surface, &shade.onward);
@@ -327,7 +342,7 @@ impl<S: Scalar> Shader<'_, S> {
                 surface,
                 &shade.ray.base,
                 filtered,
-                plain,
+                kind,
                 false,
             );
             ends.add(c, surface.ambient, shine, onward.total);

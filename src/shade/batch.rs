@@ -263,7 +263,9 @@ impl<S: Scalar> Shader<'_, S> {
         Tests { filtered, by_sides }: Tests,
     ) {
         let ends = Ends { first, last };
-        // Each kind a constant where its copy is written.
+        // Each kind a constant where its copy is written, in arms of its own (through one
+        // closure called from three arms, the compiler made one copy taking the kind at run
+        // time: +9 to +30 % instructions).
         match (by_sides, self.light_kind(light)) {
             (true, LightKind::Plain) => {
                 self.add_light_by_sides(light, shaded, out, ends, LightKind::Plain);

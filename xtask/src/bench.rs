@@ -251,6 +251,13 @@ fn issue_build(root: &Path) -> Result<PathBuf, String> {
     crate::pgo::build_microray(&source, &dir.join("target"), "")
 }
 
+/// The median of `values` (the upper one of an even count; 0 for none).
+fn median(values: &[f64]) -> f64 {
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    sorted.get(sorted.len() / 2).copied().unwrap_or(0.0)
+}
+
 /// The wall-clock and CPU seconds (user and system) of one run of `command`.
 fn timed_run(command: &mut Command) -> Result<(f64, f64), String> {
     use nix::sys::resource::{UsageWho, getrusage};
@@ -300,10 +307,6 @@ fn issue_report(
         rule.push_str("---|---|---|");
     }
     let _ = writeln!(out, "{header} ratio for 3x |\n{rule}---|");
-    let median = |mut v: Vec<f64>| {
-        v.sort_by(f64::total_cmp);
-        v.get(v.len() / 2).copied().unwrap_or(0.0)
-    };
     for name in PROCESS_SCENES {
         let figure = |table: &[(&str, f64)]| table.iter().find(|(n, _)| *n == name).map(|f| f.1);
         let (Some(course), Some(then), Some(old)) = (
@@ -313,21 +316,22 @@ fn issue_report(
         ) else {
             continue;
         };
-        let mut row = format!(
-            "| {name} | {course:.3} | {then:.3} | {:.4} |",
-            median(old.clone())
-        );
+        let mut row = format!("| {name} | {course:.3} | {then:.3} | {:.4} |", median(old));
         for table in times {
             let Some([cpu, _, _]) = table.get(name) else {
                 row.push_str(" — | — | — |");
                 continue;
             };
-            let pairs = cpu.iter().zip(old).map(|(new, old)| new / old.max(1e-9));
-            let ratio = median(pairs.collect());
+            let pairs: Vec<f64> = cpu
+                .iter()
+                .zip(old)
+                .map(|(new, old)| new / old.max(1e-9))
+                .collect();
+            let ratio = median(&pairs);
             let _ = write!(
                 row,
                 " {:.4} | {ratio:.3} | {:.2}x |",
-                median(cpu.clone()),
+                median(cpu),
                 course / (then * ratio).max(1e-9)
             );
         }
@@ -441,20 +445,17 @@ fn process_tables(
                 continue;
             };
             if let Ok(binary) = &issue {
-                let mut command = Command::new(binary);
-                command
-                    .arg("render")
-                    .arg(path)
-                    .arg("-o")
-                    .arg(&output)
-                    .arg("-q");
-                let (_, cpu) = timed_run(&mut command)?;
+                let command = &mut crate::pgo::render_command(binary, path, &output, None);
+                let (_, cpu) = timed_run(command)?;
                 issue_cpu.entry(name).or_default().push(cpu);
             }
             for (build, (_, binary)) in builds.iter().enumerate() {
                 for threads in &thread_counts {
                     let (wall, cpu) = timed_run(&mut crate::pgo::render_command(
-                        binary, path, &output, threads,
+                        binary,
+                        path,
+                        &output,
+                        Some(threads),
                     ))?;
                     let entry = times[build].entry(name).or_default();
                     if threads == "1" {
@@ -467,20 +468,7 @@ fn process_tables(
             }
         }
     }
-    let median = |v: &mut Vec<f64>| {
-        v.sort_by(f64::total_cmp);
-        v.get(v.len() / 2).copied().unwrap_or(0.0)
-    };
-    // Written first, while each build's times are still in the order of the runs (the
-    // medians below sort them).
-    let mut issue_table = String::new();
-    match &issue {
-        Ok(_) => issue_report(&mut issue_table, &builds, &times, &issue_cpu),
-        Err(e) => {
-            let _ = writeln!(issue_table, "\n(No run of the issue's build: {e}.)");
-        }
-    }
-    for ((title, _), mut table) in builds.iter().zip(times) {
+    for ((title, _), table) in builds.iter().zip(&times) {
         let _ = writeln!(
             out,
             "\n{title}:\n\n\
@@ -489,7 +477,7 @@ fn process_tables(
              |---|---|---|---|---|---|---|"
         );
         for name in PROCESS_SCENES {
-            let Some([one_cpu, one_wall, all_wall]) = table.get_mut(name) else {
+            let Some([one_cpu, one_wall, all_wall]) = table.get(name) else {
                 continue;
             };
             let (cpu, one, all) = (median(one_cpu), median(one_wall), median(all_wall));
@@ -508,7 +496,12 @@ fn process_tables(
             );
         }
     }
-    out.push_str(&issue_table);
+    match &issue {
+        Ok(_) => issue_report(out, &builds, &times, &issue_cpu),
+        Err(e) => {
+            let _ = writeln!(out, "\n(No run of the issue's build: {e}.)");
+        }
+    }
     let _ = std::fs::remove_file(&output);
     Ok(builds.swap_remove(0).1)
 }

@@ -124,19 +124,27 @@ fn render(
     out: &Path,
     envs: &[(&str, &std::ffi::OsStr)],
 ) -> Result<(), String> {
-    qemu::checked(render_command(binary, scene, out, "1").envs(envs.iter().copied()))
+    qemu::checked(render_command(binary, scene, out, Some("1")).envs(envs.iter().copied()))
 }
 
-/// `binary render SCENE -o OUT -q --threads THREADS`, the whole-process run the bench
-/// times too.
-pub(crate) fn render_command(binary: &Path, scene: &Path, out: &Path, threads: &str) -> Command {
+/// `binary render SCENE -o OUT -q [--threads THREADS]`, the whole-process run the bench
+/// times too (`None` for a build without `--threads`, which had one thread only).
+pub(crate) fn render_command(
+    binary: &Path,
+    scene: &Path,
+    out: &Path,
+    threads: Option<&str>,
+) -> Command {
     let mut command = Command::new(binary);
     command
         .arg("render")
         .arg(scene)
         .arg("-o")
         .arg(out)
-        .args(["-q", "--threads", threads]);
+        .arg("-q");
+    if let Some(threads) = threads {
+        command.args(["--threads", threads]);
+    }
     command
 }
 

@@ -63,7 +63,7 @@ pub struct Tree<'a, S> {
 }
 
 /// An object's box in `f64`: lowest and highest corner. `None` for unbounded kinds.
-fn bounds<S: Scalar>(object: &Object<S>) -> Option<(Vec3<f64>, Vec3<f64>)> {
+pub(crate) fn bounds<S: Scalar>(object: &Object<S>) -> Option<(Vec3<f64>, Vec3<f64>)> {
     let rect = match object.shape() {
         Shape::Sphere(s) => {
             let (c, r) = (s.center.to_f64(), s.radius.to_f64());

@@ -143,6 +143,9 @@ pub struct Renderer<'s, S: Scalar, const OBJECTS: usize = 32> {
     shader: Shader<'s, S>,
     plan: Plan<OBJECTS>,
     bvh: Bvh<S, OBJECTS>,
+    /// Each light's list of the plan's objects that can block it (the host's `f64`).
+    #[cfg(feature = "batch")]
+    blockers: Option<crate::shade::LightBlockers>,
     planned: bool,
     shading: Shading,
 }
@@ -172,11 +175,21 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
         } else {
             (Plan::empty(), Bvh::empty())
         };
+        // Only for a plan's list (a tree's walks are left as they are).
+        #[cfg(feature = "batch")]
+        let blockers = match bvh.tree() {
+            None if cfg!(feature = "plan") => {
+                crate::shade::LightBlockers::new(scene.objects(), plan.kept(), scene.lights())
+            }
+            _ => None,
+        };
         Self {
             camera: scene.camera(),
             shader: Shader::new(scene.objects(), scene.lights(), scene.palette()),
             plan,
             bvh,
+            #[cfg(feature = "batch")]
+            blockers,
             planned: true,
             shading: Shading::Color,
         }
@@ -221,7 +234,10 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
                 Some(tree) => Among::Tree(tree),
                 None => Among::Only(plan.kept()),
             };
-            self.shader.planned(plan.stages(), among)
+            let shader = self.shader.planned(plan.stages(), among);
+            #[cfg(feature = "batch")]
+            let shader = shader.with_blockers(self.blockers);
+            shader
         } else {
             self.shader
         }

@@ -984,9 +984,13 @@ pub fn any_hit_remembering<S: Scalar>(
     // One match on the set: a row's list (the common case) is walked here.
     let (tree, last) = match (among, last) {
         (Among::Only(list), _) => {
-            return list
-                .iter()
-                .any(|&index| blocks(objects, usize::from(index), ray, skip, limit, z_limit));
+            // A plain loop: as `any` the compiler can leave it out of line (measured).
+            for &index in *list {
+                if blocks(objects, usize::from(index), ray, skip, limit, z_limit) {
+                    return true;
+                }
+            }
+            return false;
         }
         (Among::Tree(tree), Some(last)) if cfg!(feature = "plan") => (tree, last),
         _ => return any_hit_among(objects, among, ray, skip, limit, z_limit),

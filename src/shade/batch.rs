@@ -312,11 +312,13 @@ impl<S: Scalar> Shader<'_, S> {
                 }
             }
         }
+        let shadows = self.shadows_of(light);
         for ((c, shade), clear) in out.iter_mut().zip(shaded).zip(clear) {
             let Some(shade) = shade else { continue };
             let (surface, onward) = (shade.surface, &shade.onward);
             let eye = &shade.ray.base;
-            let shine = self.illuminate(light, onward.index, surface, eye, false, kind, clear);
+            let index = onward.index;
+            let shine = self.illuminate(light, &shadows, index, surface, eye, false, kind, clear);
             ends.add(c, surface.ambient, shine, onward.total);
         }
     }
@@ -336,10 +338,12 @@ impl<S: Scalar> Shader<'_, S> {
         filtered: bool,
         kind: LightKind,
     ) {
+        let shadows = self.shadows_of(light);
         for (c, shade) in lit(out, shaded) {
             let (surface, onward) = (shade.surface, &shade.onward);
             let shine = self.illuminate(
                 light,
+                &shadows,
                 onward.index,
                 surface,
                 &shade.ray.base,

@@ -63,9 +63,11 @@ pub(crate) struct LightBlockers {
 /// The cones of a light's blockers, where they are spheres and at most one other object.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Cones {
-    /// The blocker that is not a sphere: only lanes on it can be cleared (it skips its own
-    /// shadow rays; any other object's lanes would need its test).
+    /// The blocker that is not a sphere: lanes on it skip it (their own shadow rays do);
+    /// the others' need its side test, where it is a plane, or its shadow test.
     other: Option<usize>,
+    /// The other blocker's side, where it is a plane.
+    other_side: Option<Side>,
     count: usize,
     index: [usize; MAX_CONES],
     /// The unit way from the light to each sphere's centre.
@@ -76,12 +78,47 @@ pub(crate) struct Cones {
     reach: f64,
 }
 
+/// A plane seen from a light: its normal and `N.point` turned so that the light's side is
+/// the positive one (as `sides` has them).
+#[derive(Clone, Copy, Debug)]
+struct Side {
+    normal: [f64; 3],
+    n_dot_point: f64,
+    /// `|N.point| + |L|_1`.
+    size: f64,
+    /// The light's distance from the plane.
+    light: f64,
+}
+
+impl Side {
+    fn new(plane: (Vec3<f64>, f64), light: Vec3<f64>) -> Self {
+        let (normal, n_dot_point) = plane;
+        let light_side = n_dot_point - normal.dot(light);
+        let turn = if light_side < 0.0 { -1.0 } else { 1.0 };
+        Self {
+            normal: [normal.x * turn, normal.y * turn, normal.z * turn],
+            n_dot_point: n_dot_point * turn,
+            size: n_dot_point.abs() + norm_1(light),
+            light: light_side.abs(),
+        }
+    }
+
+    /// Whether `point` and the light lie clearly on one side of the plane (`sides`).
+    #[inline(always)]
+    fn clear(&self, p: Vec3<f64>) -> bool {
+        let margin = (self.size + norm_1(p)) * MARGIN;
+        let [nx, ny, nz] = self.normal;
+        self.light > margin && self.n_dot_point - (p.x * nx + p.y * ny + p.z * nz) > margin
+    }
+}
+
 impl Cones {
     /// The cones of the spheres among `blockers` seen from a light at `light`; `None`
     /// where two blockers are not spheres or a sphere holds the light (or nearly).
     fn new<S: Scalar>(objects: &[Object<S>], blockers: &[u16], light: Vec3<f64>) -> Option<Self> {
         let mut cones = Self {
             other: None,
+            other_side: None,
             count: 0,
             index: [0; MAX_CONES],
             axis: [[0.0; 3]; MAX_CONES],
@@ -90,16 +127,18 @@ impl Cones {
         };
         for &index in blockers {
             let index = usize::from(index);
-            let Shape::Sphere(sphere) = objects.get(index)?.shape() else {
+            let object = objects.get(index)?;
+            let Shape::Sphere(sphere) = object.shape() else {
                 if cones.other.replace(index).is_some() {
                     return None;
                 }
+                cones.other_side = plane_of(object).map(|plane| Side::new(plane, light));
                 continue;
             };
             let to_center = sphere.center.to_f64() - light;
             let d = to_center.length();
             let sin = sphere.radius.to_f64() / d + CONE_MARGIN;
-            if !(sin < 0.5) {
+            if !(sin < 0.99) {
                 return None;
             }
             let k = cones.count;
@@ -113,13 +152,19 @@ impl Cones {
         (cones.count > 0).then_some(cones)
     }
 
-    /// Whether no blocker can stop the shadow ray from a lane on object `own` whose unit way
-    /// to the light is `l`, `distance` long (as `illuminate` works them out; `l` is within
-    /// a few units in the last place of the exact way, far inside the cones' margin).
+    /// Whether no blocker can stop the shadow ray from `point`, a lane's hit on object
+    /// `own`, whose unit way to the light is `l`, `distance` long (as `illuminate` works
+    /// them out; `l` is within a few units in the last place of the exact way, far inside
+    /// the cones' margin).
     #[inline(always)]
-    pub(crate) fn clear(&self, l: Vec3<f64>, distance: f64, own: usize) -> bool {
-        if self.other.is_some_and(|other| other != own) || !(distance < self.reach) {
+    pub(crate) fn clear(&self, point: Vec3<f64>, l: Vec3<f64>, distance: f64, own: usize) -> bool {
+        if !(distance < self.reach) {
             return false;
+        }
+        if let Some(other) = self.other {
+            if other != own && !self.other_side.is_some_and(|side| side.clear(point)) {
+                return false;
+            }
         }
         // A plain loop: as iterator adapters the compiler left it out of line.
         for k in 0..MAX_CONES {
@@ -331,14 +376,16 @@ mod tests {
         let cones = Cones::new(&objects, &[0, 1], light).unwrap();
         let lane = |p: [f64; 3], own| {
             let (ray, distance) = shadow(v(p), light).unwrap();
-            cones.clear(ray.dir, distance, own)
+            cones.clear(v(p), ray.dir, distance, own)
         };
         // In front of the ball and behind it (in its shadow).
         assert!(lane([4.0, -1.0, 2.0], 1));
         assert!(!lane([0.0, -1.0, -14.0], 1));
         assert!(blocks(&objects[0], v([0.0, -1.0, -14.0]), light));
-        // The ball's own lanes: the floor could block them.
-        assert!(!lane([4.0, 7.0, -6.0], 0));
+        // The ball's own lanes: clearly above the floor, or where it touches it.
+        assert!(lane([4.0, 7.0, -6.0], 0));
+        assert!(!lane([4.0, -1.0, -6.0], 0));
+        assert!(!lane([4.0, -1.0 + 1e-14, -6.0], 0));
         // Two objects besides the spheres: no cones.
         let three = [
             objects[0].clone(),
@@ -416,7 +463,7 @@ mod tests {
             let way = axis * libm::cos(angle) + e * libm::sin(angle);
             let p = light + way * (radius * distance * beyond);
             let (ray, length) = shadow(p, light).unwrap();
-            if cones.clear(ray.dir, length, 1) {
+            if cones.clear(p, ray.dir, length, 1) {
                 prop_assert!(objects[0].hits(&ray, length).is_none());
             }
         }

@@ -495,7 +495,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 return Vec3::ZERO;
             };
             filter = Some(through);
-        } else if self.stages.shadows && !clear && !shadows.clear(l, distance, index) {
+        } else if self.stages.shadows && !clear && !shadows.clear(hit.point, l, distance, index) {
             // Nothing is transparent: the first blocker decides, whichever it is (`clear`:
             // no object can block, known without the test).
             let shadow = Ray::with_length(hit.point, l, S::ONE);
@@ -845,14 +845,14 @@ pub(crate) struct Shadows<'a, S> {
 
 impl<S: Scalar> Shadows<'_, S> {
     /// Whether the cones show that no object blocks the unit way `l` (`distance` long) to
-    /// the light from a hit on object `own`.
+    /// the light from `point`, a hit on object `own`.
     #[inline(always)]
-    fn clear(&self, l: Vec3<S>, distance: S, own: usize) -> bool {
+    fn clear(&self, point: Vec3<S>, l: Vec3<S>, distance: S, own: usize) -> bool {
         #[cfg(feature = "batch")]
         if let (true, Some(cones)) = (S::COURSE_ORDER, self.cones) {
-            return cones.clear(l.to_f64(), distance.to_f64(), own);
+            return cones.clear(point.to_f64(), l.to_f64(), distance.to_f64(), own);
         }
-        let _ = (l, distance, own);
+        let _ = (point, l, distance, own);
         false
     }
 }

@@ -366,6 +366,14 @@ mod random_rooms {
             check::<f32>(&room)?;
             check::<I16F16>(&room)?;
         }
+
+        /// In `f64` the planned render drops the planes no shadow ray to a light can cross
+        /// and clears lanes by the planes' sides and the balls' cones
+        /// (`src/shade/blockers.rs`): the same pixels.
+        #[test]
+        fn f64_blockers_change_no_pixel(room in room()) {
+            check::<f64>(&room)?;
+        }
     }
 
     /// The rooms above do exercise rows shaded together (else the property is vacuous).
@@ -390,21 +398,34 @@ mod random_rooms {
     }
 }
 
-/// The batch's side test before shadow rays (`src/shade/sides.rs`) on a scene made for it:
-/// four infinite planes, three leaning, a mirror, hit points in shadow and in light, and a
-/// light 1e-10 from a plane. `f64` only (the side test's only type); the scene is not among
-/// the parity scenes, which it would fail on purpose (a light that close to a plane is
-/// on either side of it in `f32` and Q16.16).
+/// The side tests of the lights' blockers (`src/shade/blockers.rs`) on a scene made for
+/// them: four infinite planes, three leaning, a mirror, hit points in shadow and in light,
+/// and a light 1e-10 from a plane. `f64` only (the side test's only type); the scene is not
+/// among the parity scenes, which it would fail on purpose (a light that close to a plane
+/// is on either side of it in `f32` and Q16.16).
 #[test]
 fn side_tests_change_no_pixel() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/sides/leaning_planes.txt");
+    assert_eq!(blockers_scene_differs("leaning_planes.txt"), 0);
+}
+
+/// The lights' cones and sides (`src/shade/blockers.rs`) on balls and planes made for them:
+/// a ball resting on the floor, one floating near a light, a wall no shadow ray crosses.
+#[test]
+fn cones_change_no_pixel() {
+    assert_eq!(blockers_scene_differs("balls_on_a_floor.txt"), 0);
+}
+
+/// The pixels of a scene of `tests/blockers` that differ between its `f64` renders with
+/// and without the plan (planned `f64` colour rows are shaded in batches,
+/// `render::shade_batches`, where the blockers are used).
+fn blockers_scene_differs(file: &str) -> usize {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/blockers")
+        .join(file);
     let scene = load::<f64>(&path);
-    // Planned `f64` colour rows are shaded in batches (`render::shade_batches`; no row is
-    // at one `t`, see above), the side test's place.
     let planned: HostRenderer<'_, f64> = Renderer::new(&scene);
     let unplanned = planned.clone().with_plan(false);
-    let differing = differing_pixels(&image(&planned), &image(&unplanned));
-    assert_eq!(differing, 0, "pixels that differ with the side test");
+    differing_pixels(&image(&planned), &image(&unplanned))
 }
 
 /// Pixels where two images of one size differ.

@@ -82,21 +82,11 @@ impl<S: Scalar> Shader<'_, S> {
             *out = [Vec3::ZERO; BATCH];
             return;
         }
-        // The scenes that try the side test before their shadow rays (see `sides`) get a
-        // copy of their own, so that the others' loops are compiled as without it.
-        if self.plane_sides.is_some() && self.stages.shadows && !self.filters_shadows() {
-            self.shade_lanes::<true>(&lanes, out);
-        } else {
-            self.shade_lanes::<false>(&lanes, out);
-        }
+        self.shade_lanes(&lanes, out);
     }
 
     /// [`trace`](Self::trace) for each lane.
-    fn trace_lanes<const SIDES: bool>(
-        &self,
-        lanes: &mut [Option<Lane<S>>; BATCH],
-        out: &mut [Vec3<S>; BATCH],
-    ) {
+    fn trace_lanes(&self, lanes: &mut [Option<Lane<S>>; BATCH], out: &mut [Vec3<S>; BATCH]) {
         if lanes.iter().flatten().count() < SPARSE {
             for (c, lane) in out.iter_mut().zip(lanes.iter()) {
                 *c = lane.map_or(Vec3::ZERO, |l| self.trace(&l.ray, l.total, l.left, l.depth));
@@ -131,16 +121,11 @@ impl<S: Scalar> Shader<'_, S> {
             }
             lane.hit = search(lane);
         }
-        self.shade_lanes::<SIDES>(lanes, out);
+        self.shade_lanes(lanes, out);
     }
 
     /// [`shade`](Self::shade) for each lane that meets an object; black for the others.
-    /// `SIDES`: with the side test before the shadow rays (see `sides`).
-    fn shade_lanes<const SIDES: bool>(
-        &self,
-        lanes: &[Option<Lane<S>>; BATCH],
-        out: &mut [Vec3<S>; BATCH],
-    ) {
+    fn shade_lanes(&self, lanes: &[Option<Lane<S>>; BATCH], out: &mut [Vec3<S>; BATCH]) {
         // Every surface, then every own light: the chains of the batch side by side. The
         // surfaces are written where they stay (they are large to move).
         let mut surfaces: [Option<Surface<'_, S>>; BATCH] = [None; BATCH];
@@ -173,17 +158,17 @@ impl<S: Scalar> Shader<'_, S> {
                 }
             }
         }
-        self.own_lights::<SIDES>(&shades, out);
+        self.own_lights(&shades, out);
         // Then what the mirrors show, then what lies behind transparent surfaces, in the
         // order `beyond` adds them.
         // (Each stage asked first, so that a render without it does not even clear its
         // lanes.)
         if self.any_mirrors() {
-            self.leaving::<SIDES>(&shades, out, |s, m| s.mirrors(m), mirror_ray, with_mirror);
+            self.leaving(&shades, out, |s, m| s.mirrors(m), mirror_ray, with_mirror);
         }
         if self.any_transmits() {
             let through = |s: &Self, m: &Material<S>| s.transmits(m);
-            self.leaving::<SIDES>(&shades, out, through, through_ray, with_behind);
+            self.leaving(&shades, out, through, through_ray, with_behind);
         }
     }
 
@@ -192,11 +177,7 @@ impl<S: Scalar> Shader<'_, S> {
     /// the lanes' shadow rays to one light run side by side (each lane adds its lights in
     /// the same order as [`local`](Self::local)).
     #[inline(always)]
-    fn own_lights<const SIDES: bool>(
-        &self,
-        shaded: &Shaded<'_, '_, S>,
-        out: &mut [Vec3<S>; BATCH],
-    ) {
+    fn own_lights(&self, shaded: &Shaded<'_, '_, S>, out: &mut [Vec3<S>; BATCH]) {
         for c in out.iter_mut() {
             *c = Vec3::ZERO;
         }
@@ -215,36 +196,27 @@ impl<S: Scalar> Shader<'_, S> {
         }
         // Two copies of the loop, the common one without the walk through transparent
         // objects (it would take registers from the loop).
-        if SIDES {
-            self.add_lights(shaded, out, false, true);
-        } else if self.filters_shadows() {
-            self.add_lights(shaded, out, true, false);
+        if self.filters_shadows() {
+            self.add_lights(shaded, out, true);
         } else {
-            self.add_lights(shaded, out, false, false);
+            self.add_lights(shaded, out, false);
         }
     }
 
     /// Adds every light's diffuse and glint to each shaded lane's colour in `out`, the
     /// lights in the outer loop (see [`own_lights`](Self::own_lights)).
     #[inline(always)]
-    fn add_lights(
-        &self,
-        shaded: &Shaded<'_, '_, S>,
-        out: &mut [Vec3<S>; BATCH],
-        filtered: bool,
-        by_sides: bool,
-    ) {
+    fn add_lights(&self, shaded: &Shaded<'_, '_, S>, out: &mut [Vec3<S>; BATCH], filtered: bool) {
         // Each light's place known where its loop is written, so that no lane asks.
-        let tests = Tests { filtered, by_sides };
         match self.lights {
             [] => {}
-            [only] => self.add_light_copy(only, shaded, out, [true, true], tests),
+            [only] => self.add_light_copy(only, shaded, out, [true, true], filtered),
             [first, middle @ .., last] => {
-                self.add_light_copy(first, shaded, out, [true, false], tests);
+                self.add_light_copy(first, shaded, out, [true, false], filtered);
                 for light in middle {
-                    self.add_light_copy(light, shaded, out, [false, false], tests);
+                    self.add_light_copy(light, shaded, out, [false, false], filtered);
                 }
-                self.add_light_copy(last, shaded, out, [false, true], tests);
+                self.add_light_copy(last, shaded, out, [false, true], filtered);
             }
         }
     }
@@ -260,66 +232,23 @@ impl<S: Scalar> Shader<'_, S> {
         shaded: &Shaded<'_, '_, S>,
         out: &mut [Vec3<S>; BATCH],
         [first, last]: [bool; 2],
-        Tests { filtered, by_sides }: Tests,
+        filtered: bool,
     ) {
         let ends = Ends { first, last };
         // Each kind a constant where its copy is written, in arms of its own (through one
         // closure called from three arms, the compiler made one copy taking the kind at run
         // time: +9 to +30 % instructions).
-        match (by_sides, self.light_kind(light)) {
-            (true, LightKind::Plain) => {
-                self.add_light_by_sides(light, shaded, out, ends, LightKind::Plain);
-            }
-            (true, LightKind::PointWithGlints) => {
-                let kind = LightKind::PointWithGlints;
-                self.add_light_by_sides(light, shaded, out, ends, kind);
-            }
-            (true, LightKind::Any) => {
-                self.add_light_by_sides(light, shaded, out, ends, LightKind::Any);
-            }
-            (false, LightKind::Plain) => {
+        match self.light_kind(light) {
+            LightKind::Plain => {
                 self.add_light(light, shaded, out, ends, filtered, LightKind::Plain);
             }
-            (false, LightKind::PointWithGlints) => {
+            LightKind::PointWithGlints => {
                 let kind = LightKind::PointWithGlints;
                 self.add_light(light, shaded, out, ends, filtered, kind);
             }
-            (false, LightKind::Any) => {
+            LightKind::Any => {
                 self.add_light(light, shaded, out, ends, filtered, LightKind::Any);
             }
-        }
-    }
-
-    /// [`add_light`](Self::add_light) without transparent objects, the shadow rays of the
-    /// lanes that the side test clears left out (see `sides`). A loop of its own rather
-    /// than a flag threaded through `add_light`'s: that cost the other scenes' copies their
-    /// registers (+7 to +42 % instructions, `docs/host-speed-log.md`).
-    #[inline(always)]
-    fn add_light_by_sides(
-        &self,
-        light: &Light<S>,
-        shaded: &Shaded<'_, '_, S>,
-        out: &mut [Vec3<S>; BATCH],
-        ends: Ends,
-        kind: LightKind,
-    ) {
-        // The side test first, in a loop of its own.
-        let mut clear = [false; BATCH];
-        if let Some(sides) = self.sides_of(light) {
-            for (clear, shade) in clear.iter_mut().zip(shaded) {
-                if let Some(shade) = shade {
-                    *clear = sides.clear(shade.surface.hit.point, shade.onward.index);
-                }
-            }
-        }
-        let shadows = self.shadows_of(light);
-        for ((c, shade), clear) in out.iter_mut().zip(shaded).zip(clear) {
-            let Some(shade) = shade else { continue };
-            let (surface, onward) = (shade.surface, &shade.onward);
-            let eye = &shade.ray.base;
-            let index = onward.index;
-            let shine = self.illuminate(light, &shadows, index, surface, eye, false, kind, clear);
-            ends.add(c, surface.ambient, shine, onward.total);
         }
     }
 
@@ -349,7 +278,6 @@ impl<S: Scalar> Shader<'_, S> {
                 &shade.ray.base,
                 filtered,
                 kind,
-                false,
             );
             ends.add(c, surface.ambient, shine, onward.total);
         }
@@ -358,7 +286,7 @@ impl<S: Scalar> Shader<'_, S> {
     /// Traces the rays leaving the shaded hits whose material `leaves` says so (`ray` makes
     /// them) and adds what they see to their colours in `out` (as `add` says).
     #[inline(always)]
-    fn leaving<const SIDES: bool>(
+    fn leaving(
         &self,
         shaded: &Shaded<'_, '_, S>,
         out: &mut [Vec3<S>; BATCH],
@@ -381,7 +309,7 @@ impl<S: Scalar> Shader<'_, S> {
             return;
         }
         let mut seen = [Vec3::ZERO; BATCH];
-        self.trace_lanes::<SIDES>(&mut next, &mut seen);
+        self.trace_lanes(&mut next, &mut seen);
         // The same test as above (`trace_lanes` drops the lanes it stops: they add black).
         for ((c, seen), shade) in out.iter_mut().zip(&seen).zip(shaded) {
             if let Some(shade) = shade {
@@ -403,14 +331,6 @@ impl Ends {
         let sum = before + shine;
         *c = if self.last { sum / total } else { sum };
     }
-}
-
-/// How a batch's shadow rays are tested: through transparent objects (`filtered`), or
-/// after the side test (`by_sides`, see `sides`).
-#[derive(Clone, Copy)]
-struct Tests {
-    filtered: bool,
-    by_sides: bool,
 }
 
 /// Where a light stands in the order the lights are added.

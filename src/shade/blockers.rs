@@ -1,29 +1,41 @@
-//! The objects that can block each light, found once a render (feature `batch`, `f64`).
+//! What can block each light's shadow rays, worked out once a render (feature `batch`,
+//! `f64`), so that the tests a shadow ray could not pass are not cast.
 //!
-//! A plane (plain, tiled or finite: their tests start with their plane's) blocks the way
-//! from a hit point `P` to a light `L` only if the two lie on opposite sides of it. Every
-//! shadow ray starts on an object a ray can meet (a render plan's kept objects), and the
-//! filtered walk's later starts lie between `P` and `L`. So where the light and every
-//! other kept object lie clearly on one side of a plane, the plane blocks none of that
-//! light's shadow rays, and they leave it out (translucent3: the back wall, for both
-//! lights; the filtered walk tests the green pane alone). A plane whose own points start a
-//! ray is skipped by that ray anyway.
+//! **Planes.** A plane (plain, tiled or finite: their tests start with their plane's)
+//! blocks the way from a hit point `P` to a light `L` only if the two lie on opposite sides
+//! of it. "Clearly" on one side: farther from the plane than `2^-40 s`, where `s =
+//! |N.point| + |L|_1 + |P|_1` is the size of the coordinates involved. With `u = 2^-53`,
+//! each value the shadow test works out (the way `L - P`, its length, the unit direction
+//! `l`, `N . l`, and the numerator `N.point - N.P`) is within `11 u s` of its exact value,
+//! and so is the side test's own. The exact test puts the plane behind `P` or beyond `L`;
+//! with both at `2^-40 s` or more from it, the rounded parameter stays behind `P` (a sign
+//! that differs) or at `L`'s distance or beyond (`q >= limit`), with room 2^13 / 15 times
+//! what the roundings take: the same answer as the test's, bit for bit.
 //!
-//! "Clearly" is the side test's margin (see `sides`): farther from the plane than
-//! `2^-40 s`, `s` the size of the coordinates involved, here taken over each object's
-//! box. The shadow test's roundings cannot then find the plane between `P` and `L`.
+//! - **Lists.** Every shadow ray starts on an object a ray can meet (a render plan's kept
+//!   objects), and the filtered walk's later starts lie between `P` and `L`. Where the
+//!   light and every other kept object's box lie clearly on one side of a plane, the plane
+//!   blocks none of that light's shadow rays, and its list leaves it out (translucent3: the
+//!   back wall, for both lights; a walk over the one object left is one test).
+//! - **Side tests.** Otherwise an infinite plane is tested lane by lane: a hit point
+//!   clearly on the light's side of it needs no test of it (tplane4, spec0). (A finite
+//!   plane lets light pass beside it, and the side test would clear few lanes: fplane3
+//!   +8 %.)
 //!
-//! A sphere blocks the way from `P` to `L` only if `P` lies in the cone from `L` that
-//! holds the sphere. Where a light's blockers are spheres and at most one other object,
-//! a lane on that object (shiny3: the floor, under one ball) whose way to the light lies
-//! outside every sphere's cone needs no shadow ray ([`Cones::clear`]; about 10
-//! instructions for the sphere test's 40 and the walk to it).
+//! **Spheres.** A sphere blocks the way from `P` to `L` only if `P` lies in the cone from
+//! `L` that holds the sphere. The cone is widened by `2^-20` in the sine of its half-angle:
+//! outside it, the line from `P` to `L` passes the centre at `r + 2^-20 |C - L|` or more,
+//! while the sphere test's perpendicular distance is off by a few units in the last place
+//! of `|P - C|`, which the test keeps below `2^20 |C - L|` (`|P - C| <= |P - L| + |C -
+//! L|`). The test's discriminant is then negative, as it is exactly (shiny3: the floor's
+//! lanes outside the ball's shadow).
 //!
-//! The cone is widened by `2^-20` in the sine of its half-angle: outside it, the line
-//! from `P` to `L` passes the centre at `r + 2^-20 |C - L|` or more, while the sphere
-//! test's perpendicular distance is off by a few units in the last place of `|P - C|`,
-//! which the test keeps below `2^20 |C - L|` (`|P - C| <= |P - L| + |C - L|`). The
-//! test's discriminant is then negative, as it is exactly: the same answer, bit for bit.
+//! Where a light's blockers are infinite planes, spheres and at most one other object, a
+//! lane for which every blocker but its own object is cleared casts no shadow ray
+//! ([`Clearing::clear`], in `illuminate`, where the way to the light is already worked
+//! out). The tests below try the shadow test itself wherever a list leaves a plane out or
+//! the clearing says clear, with points and lights down to `2^-60` from the planes and
+//! the cones' edges; the side test and the cones' fail without their margins.
 
 use crate::bvh::bounds;
 use crate::light::Light;
@@ -43,6 +55,9 @@ const MARGIN: f64 = 1.0 / 1_099_511_627_776.0;
 /// The most spheres a light's cones hold.
 pub(crate) const MAX_CONES: usize = 4;
 
+/// The most planes whose sides a light's cones test.
+const MAX_SIDES: usize = 2;
+
 /// `2^-20`: how much a sphere's cone is widened, in the sine of its half-angle.
 const CONE_MARGIN: f64 = 1.0 / 1_048_576.0;
 
@@ -57,17 +72,16 @@ pub(crate) struct LightBlockers {
     lists: [[u16; MAX_BLOCKERS]; MAX_LIGHTS],
     /// Each list's length; `None` for a light that tests every kept object.
     counts: [Option<u8>; MAX_LIGHTS],
-    cones: [Option<Cones>; MAX_LIGHTS],
+    clearing: [Option<Clearing>; MAX_LIGHTS],
 }
 
-/// The cones of a light's blockers, where they are spheres and at most one other object.
+/// What clears a lane of a light's shadow test: its blockers' cones, where they are
+/// spheres, and sides, where they are infinite planes; at most one blocker with neither.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Cones {
-    /// The blocker that is not a sphere: lanes on it skip it (their own shadow rays do);
-    /// the others' need its side test, where it is a plane, or its shadow test.
+pub(crate) struct Clearing {
+    /// The blocker with neither: lanes on it skip it (their own shadow rays do), the
+    /// others' need its shadow test.
     other: Option<usize>,
-    /// The other blocker's side, where it is a plane.
-    other_side: Option<Side>,
     count: usize,
     index: [usize; MAX_CONES],
     /// The unit way from the light to each sphere's centre.
@@ -76,10 +90,12 @@ pub(crate) struct Cones {
     cos: [f64; MAX_CONES],
     /// The distance from the light within which the cones are trusted.
     reach: f64,
+    /// The planes' indices and sides.
+    planes: [Option<(usize, Side)>; MAX_SIDES],
 }
 
 /// A plane seen from a light: its normal and `N.point` turned so that the light's side is
-/// the positive one (as `sides` has them).
+/// the positive one.
 #[derive(Clone, Copy, Debug)]
 struct Side {
     normal: [f64; 3],
@@ -103,7 +119,8 @@ impl Side {
         }
     }
 
-    /// Whether `point` and the light lie clearly on one side of the plane (`sides`).
+    /// Whether `point` and the light lie clearly on one side of the plane (see the module's
+    /// documentation).
     #[inline(always)]
     fn clear(&self, p: Vec3<f64>) -> bool {
         let margin = (self.size + norm_1(p)) * MARGIN;
@@ -112,27 +129,36 @@ impl Side {
     }
 }
 
-impl Cones {
-    /// The cones of the spheres among `blockers` seen from a light at `light`; `None`
-    /// where two blockers are not spheres or a sphere holds the light (or nearly).
+impl Clearing {
+    /// The cones and sides of `blockers` seen from a light at `light`; `None` where two
+    /// blockers have neither, there are more than the capacities, or a sphere holds the
+    /// light (or nearly).
     fn new<S: Scalar>(objects: &[Object<S>], blockers: &[u16], light: Vec3<f64>) -> Option<Self> {
-        let mut cones = Self {
+        let mut clearing = Self {
             other: None,
-            other_side: None,
             count: 0,
             index: [0; MAX_CONES],
             axis: [[0.0; 3]; MAX_CONES],
             cos: [0.0; MAX_CONES],
             reach: f64::INFINITY,
+            planes: [None; MAX_SIDES],
         };
         for &index in blockers {
             let index = usize::from(index);
             let object = objects.get(index)?;
+            // Infinite planes only: light passes beside a finite one, whose side test
+            // would clear few lanes.
+            if let Some(plane) =
+                plane_of(object).filter(|_| !matches!(object.shape(), Shape::FPlane(_)))
+            {
+                *clearing.planes.iter_mut().find(|p| p.is_none())? =
+                    Some((index, Side::new(plane, light)));
+                continue;
+            }
             let Shape::Sphere(sphere) = object.shape() else {
-                if cones.other.replace(index).is_some() {
+                if clearing.other.replace(index).is_some() {
                     return None;
                 }
-                cones.other_side = plane_of(object).map(|plane| Side::new(plane, light));
                 continue;
             };
             let to_center = sphere.center.to_f64() - light;
@@ -141,15 +167,15 @@ impl Cones {
             if !(sin < 0.99) {
                 return None;
             }
-            let k = cones.count;
-            *cones.index.get_mut(k)? = index;
+            let k = clearing.count;
+            *clearing.index.get_mut(k)? = index;
             let axis = to_center / d;
-            *cones.axis.get_mut(k)? = [axis.x, axis.y, axis.z];
-            *cones.cos.get_mut(k)? = libm::sqrt(1.0 - sin * sin);
-            cones.reach = cones.reach.min(d * CONE_REACH);
-            cones.count = k + 1;
+            *clearing.axis.get_mut(k)? = [axis.x, axis.y, axis.z];
+            *clearing.cos.get_mut(k)? = libm::sqrt(1.0 - sin * sin);
+            clearing.reach = clearing.reach.min(d * CONE_REACH);
+            clearing.count = k + 1;
         }
-        (cones.count > 0).then_some(cones)
+        Some(clearing)
     }
 
     /// Whether no blocker can stop the shadow ray from `point`, a lane's hit on object
@@ -161,8 +187,18 @@ impl Cones {
         if !(distance < self.reach) {
             return false;
         }
-        if let Some(other) = self.other {
-            if other != own && !self.other_side.is_some_and(|side| side.clear(point)) {
+        if self.other.is_some_and(|other| other != own) {
+            return false;
+        }
+        // Each plane written out (as a loop, +3 % on shiny3).
+        let [first, second] = &self.planes;
+        if let Some((index, side)) = first {
+            if *index != own && !side.clear(point) {
+                return false;
+            }
+        }
+        if let Some((index, side)) = second {
+            if *index != own && !side.clear(point) {
                 return false;
             }
         }
@@ -200,11 +236,11 @@ impl LightBlockers {
         let mut blockers = Self {
             lists: [[0; MAX_BLOCKERS]; MAX_LIGHTS],
             counts: [None; MAX_LIGHTS],
-            cones: [None; MAX_LIGHTS],
+            clearing: [None; MAX_LIGHTS],
         };
         let mut any = false;
         let slots = blockers.lists.iter_mut().zip(&mut blockers.counts);
-        for (((list, count), cones), light) in slots.zip(&mut blockers.cones).zip(lights) {
+        for (((list, count), clearing), light) in slots.zip(&mut blockers.clearing).zip(lights) {
             let location = light.location.to_f64();
             let mut length = 0;
             for &index in kept {
@@ -224,8 +260,8 @@ impl LightBlockers {
                 any = true;
             }
             let blocking = list.get(..length).unwrap_or(kept);
-            *cones = Cones::new(objects, blocking, location);
-            any |= cones.is_some();
+            *clearing = Clearing::new(objects, blocking, location);
+            any |= clearing.is_some();
         }
         any.then_some(blockers)
     }
@@ -237,10 +273,10 @@ impl LightBlockers {
         self.lists.get(n)?.get(..count)
     }
 
-    /// The cones of light `n`'s blockers, if it has them.
+    /// What clears light `n`'s lanes, if it has it.
     #[inline(always)]
-    pub(crate) fn cones(&self, n: usize) -> Option<&Cones> {
-        self.cones.get(n)?.as_ref()
+    pub(crate) fn clearing(&self, n: usize) -> Option<&Clearing> {
+        self.clearing.get(n)?.as_ref()
     }
 }
 
@@ -305,6 +341,7 @@ mod tests {
     use crate::object::fplane::{RectDef, fplane_init};
     use crate::object::plane::{PlaneDef, plane_init};
     use crate::object::sphere::{SphereDef, sphere_init};
+    use crate::object::tiled_plane::tiled_plane_init;
     use crate::ray::Ray;
     use proptest::prelude::*;
 
@@ -370,13 +407,12 @@ mod tests {
             plane([0.0, 1.0, 0.0], [0.0, -1.0, 0.0]),
         ];
         let light = v([10.0, 8.0, 4.0]);
-        // The floor touches the ball: it stays a blocker, and so the cones clear only
-        // the floor's lanes.
+        // The floor touches the ball: it stays a blocker, tested lane by lane.
         assert!(!never_blocks(&objects, &[0, 1], 1, light));
-        let cones = Cones::new(&objects, &[0, 1], light).unwrap();
+        let clearing = Clearing::new(&objects, &[0, 1], light).unwrap();
         let lane = |p: [f64; 3], own| {
             let (ray, distance) = shadow(v(p), light).unwrap();
-            cones.clear(v(p), ray.dir, distance, own)
+            clearing.clear(v(p), ray.dir, distance, own)
         };
         // In front of the ball and behind it (in its shadow).
         assert!(lane([4.0, -1.0, 2.0], 1));
@@ -386,16 +422,73 @@ mod tests {
         assert!(lane([4.0, 7.0, -6.0], 0));
         assert!(!lane([4.0, -1.0, -6.0], 0));
         assert!(!lane([4.0, -1.0 + 1e-14, -6.0], 0));
-        // Two objects besides the spheres: no cones.
-        let three = [
-            objects[0].clone(),
-            objects[1].clone(),
-            plane([1.0, 0.0, 0.0], [-9.0, 0.0, 0.0]),
-        ];
-        assert!(Cones::new(&three, &[0, 1, 2], light).is_none());
+        // Two objects with neither a cone nor a side test: no clearing.
+        let pane = |x| {
+            let rect = RectDef::new([1.0, 0.0, 0.0], [x, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0]);
+            fplane_init("f", 0, &rect, 1.0).unwrap()
+        };
+        assert!(Clearing::new(&[objects[0].clone(), pane(-9.0)], &[0, 1], light).is_some());
+        let three = [objects[0].clone(), pane(-9.0), pane(-10.0)];
+        assert!(Clearing::new(&three, &[0, 1, 2], light).is_none());
+    }
+
+    /// Wherever the side test says clear, no plane kind's own test blocks the shadow ray.
+    fn check_side(normal: [f64; 3], point: [f64; 3], xdir: [f64; 3], p: [f64; 3], light: [f64; 3]) {
+        let rect = RectDef::new(normal, point, xdir, [50.0, 40.0]);
+        let (Ok(plain), Ok(finite), Ok(tiled)) = (
+            plane_init("p", 0, &PlaneDef { normal, point }, 1.0),
+            fplane_init("f", 0, &rect, 1.0),
+            tiled_plane_init("t", 0, &rect, 1, 1.0),
+        ) else {
+            return;
+        };
+        let (p, light) = (v(p), v(light));
+        for object in [plain, finite, tiled] {
+            let side = Side::new(plane_of(&object).unwrap(), light);
+            if side.clear(p) {
+                assert!(
+                    !blocks(&object, p, light),
+                    "{normal:?} {point:?} {p:?} {light:?}"
+                );
+            }
+        }
     }
 
     proptest! {
+        #[test]
+        fn clear_sides_are_never_blocked(
+            normal in prop::array::uniform3(-3.0f64..3.0),
+            axis in 0usize..4,
+            point in prop::array::uniform3(-20.0f64..20.0),
+            along in prop::array::uniform4(-30.0f64..30.0),
+            off in prop::array::uniform2(-1.0f64..1.0),
+            exponent in prop::array::uniform2(-60i32..4),
+        ) {
+            // Axis normals too (their tests read one coordinate).
+            let mut normal = normal;
+            if axis < 3 {
+                normal = [0.0; 3];
+                normal[axis] = if off[0] > 0.0 { 1.0 } else { -1.0 };
+            }
+            let len = v(normal).length();
+            prop_assume!(len > 1e-3);
+            let n = [normal[0] / len, normal[1] / len, normal[2] / len];
+            let t1 = if n[0].abs() < 0.9 { [0.0, -n[2], n[1]] } else { [-n[2], 0.0, n[0]] };
+            let t2 = [n[1] * t1[2] - n[2] * t1[1], n[2] * t1[0] - n[0] * t1[2], n[0] * t1[1] - n[1] * t1[0]];
+            // The hit point and the light each at a distance from the plane from 2^-60 to
+            // 2^4, anywhere along it: near the plane the margin decides (the test's own
+            // roundings could find a hit at a tiny `t`, or just short of the light).
+            let at = |a: f64, b: f64, d: f64| -> [f64; 3] {
+                core::array::from_fn(|k| point[k] + a * t1[k] + b * t2[k] + d * n[k])
+            };
+            let dp = off[0] * 2f64.powi(exponent[0]);
+            let dl = off[1] * 2f64.powi(exponent[1]);
+            check_side(normal, point, t1, at(along[0], along[1], dp), at(along[2], along[3], dl));
+            // The same side, the other far.
+            check_side(normal, point, t1, at(along[0], along[1], dp), at(along[2], along[3], dp.signum() * 9.0));
+            check_side(normal, point, t1, at(along[0], along[1], dl.signum() * 9.0), at(along[2], along[3], dl));
+        }
+
         /// Wherever a plane is left out of a light's list, it blocks no shadow ray from any
         /// point of the other objects' boxes, even those nearly touching it.
         #[test]
@@ -452,7 +545,7 @@ mod tests {
             let axis = toward / toward.length();
             let light = v(center) - axis * (radius * distance);
             let objects = [ball(center, radius), plane([0.0, 1.0, 0.0], [0.0, -100.0, 0.0])];
-            let Some(cones) = Cones::new(&objects, &[0, 1], light) else {
+            let Some(clearing) = Clearing::new(&objects, &[0, 1], light) else {
                 return Ok(());
             };
             // A way from the light at the cone's half-angle, give or take `off 2^exponent`.
@@ -463,7 +556,7 @@ mod tests {
             let way = axis * libm::cos(angle) + e * libm::sin(angle);
             let p = light + way * (radius * distance * beyond);
             let (ray, length) = shadow(p, light).unwrap();
-            if cones.clear(p, ray.dir, length, 1) {
+            if clearing.clear(p, ray.dir, length, 1) {
                 prop_assert!(objects[0].hits(&ray, length).is_none());
             }
         }

@@ -37,8 +37,6 @@ mod batch;
 mod blockers;
 mod row;
 #[cfg(feature = "batch")]
-mod sides;
-#[cfg(feature = "batch")]
 pub use batch::BATCH;
 #[cfg(feature = "batch")]
 pub(crate) use blockers::LightBlockers;
@@ -92,9 +90,6 @@ pub struct Shader<'s, S: Scalar> {
     stages: Stages,
     among: Among<'s, S>,
     shadow_cache: Option<&'s ShadowCache>,
-    /// The side tests the batch tries before shadow rays, where they can pay (see `sides`).
-    #[cfg(feature = "batch")]
-    plane_sides: Option<sides::LightSides>,
     /// Each light's list of the objects that can block it (see `blockers`).
     #[cfg(feature = "batch")]
     blockers: Option<blockers::LightBlockers>,
@@ -112,8 +107,6 @@ impl<'s, S: Scalar> Shader<'s, S> {
             stages: Stages::ALL,
             among: Among::All,
             shadow_cache: None,
-            #[cfg(feature = "batch")]
-            plane_sides: sides::LightSides::new(objects, lights),
             #[cfg(feature = "batch")]
             blockers: None,
         }
@@ -146,12 +139,6 @@ impl<'s, S: Scalar> Shader<'s, S> {
         offset / core::mem::size_of::<Light<S>>().max(1)
     }
 
-    /// The side test of `light` (one of the shader's lights), if the batch tries one.
-    #[cfg(feature = "batch")]
-    fn sides_of(&self, light: &Light<S>) -> Option<&sides::Sides> {
-        self.plane_sides.as_ref()?.of(self.light_number(light))
-    }
-
     /// The same shader running only `stages` and testing rays only against `among` (a
     /// render plan's; see [`crate::plan`]).
     pub fn planned(self, stages: Stages, among: Among<'s, S>) -> Self {
@@ -177,7 +164,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let mut shadows = Shadows {
             among: self.among,
             #[cfg(feature = "batch")]
-            cones: None,
+            clearing: None,
         };
         #[cfg(feature = "batch")]
         if let Some(blockers) = self.blockers.as_ref() {
@@ -185,7 +172,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
             if let Some(list) = blockers.of(n) {
                 shadows.among = Among::Only(list);
             }
-            shadows.cones = blockers.cones(n);
+            shadows.clearing = blockers.clearing(n);
         }
         let _ = light;
         shadows
@@ -407,7 +394,6 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 &eye,
                 filtered,
                 LightKind::Any,
-                false,
             );
         }
         c
@@ -454,7 +440,6 @@ impl<'s, S: Scalar> Shader<'s, S> {
         eye: &Vec3<S>,
         filtered: bool,
         kind: LightKind,
-        clear: bool,
     ) -> Vec3<S> {
         let point = kind != LightKind::Any;
         let hit = &surface.hit;
@@ -495,9 +480,9 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 return Vec3::ZERO;
             };
             filter = Some(through);
-        } else if self.stages.shadows && !clear && !shadows.clear(hit.point, l, distance, index) {
-            // Nothing is transparent: the first blocker decides, whichever it is (`clear`:
-            // no object can block, known without the test).
+        } else if self.stages.shadows && !shadows.clear(hit.point, l, distance, index) {
+            // Nothing is transparent: the first blocker decides, whichever it is (unless the
+            // clearing shows that no object can block: see `blockers`).
             let shadow = Ray::with_length(hit.point, l, S::ONE);
             let z = self.z_limit;
             let last = self.remembered(light);
@@ -835,22 +820,22 @@ fn with_behind<S: Scalar>(c: Vec3<S>, behind: Vec3<S>, material: &Material<S>) -
 }
 
 /// What a light's shadow rays are tested against: the objects that can block it, and the
-/// cones that clear lanes before their test (see `blockers`).
+/// cones and sides that clear lanes before their test (see `blockers`).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Shadows<'a, S> {
     among: Among<'a, S>,
     #[cfg(feature = "batch")]
-    cones: Option<&'a blockers::Cones>,
+    clearing: Option<&'a blockers::Clearing>,
 }
 
 impl<S: Scalar> Shadows<'_, S> {
-    /// Whether the cones show that no object blocks the unit way `l` (`distance` long) to
+    /// Whether the cones and sides show that no object blocks the unit way `l` (`distance` long) to
     /// the light from `point`, a hit on object `own`.
     #[inline(always)]
     fn clear(&self, point: Vec3<S>, l: Vec3<S>, distance: S, own: usize) -> bool {
         #[cfg(feature = "batch")]
-        if let (true, Some(cones)) = (S::COURSE_ORDER, self.cones) {
-            return cones.clear(point.to_f64(), l.to_f64(), distance.to_f64(), own);
+        if let (true, Some(clearing)) = (S::COURSE_ORDER, self.clearing) {
+            return clearing.clear(point.to_f64(), l.to_f64(), distance.to_f64(), own);
         }
         let _ = (point, l, distance, own);
         false

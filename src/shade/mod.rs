@@ -475,9 +475,16 @@ impl<'s, S: Scalar> Shader<'s, S> {
         // not loaded before it and kept across its calls).
         let mut filter = None;
         if filtered {
-            let among = &shadows.among;
-            let Some(through) = self.shadow_filter(among, hit.point, l, distance, index) else {
-                return Vec3::ZERO;
+            // Cleared: the walk would meet nothing, and its filter would be ones (a product
+            // by one is exact; a filter left out would be a branch more).
+            let through = if shadows.clear(hit.point, l, distance, index) {
+                Vec3::new(S::ONE, S::ONE, S::ONE)
+            } else {
+                let among = &shadows.among;
+                let Some(through) = self.shadow_filter(among, hit.point, l, distance, index) else {
+                    return Vec3::ZERO;
+                };
+                through
             };
             filter = Some(through);
         } else if self.stages.shadows && !shadows.clear(hit.point, l, distance, index) {

@@ -116,6 +116,16 @@ pub enum RowTest<S> {
     /// whose `hits` is their plane's (and a finite plane's bounds check after it).
     #[cfg(feature = "plan")]
     Plane(S),
+    /// Only the rays whose (unit) direction's `x` lies in `lo..=hi` can meet the object
+    /// (a sphere: the rays of a row that pass its widened outline); they are tested with the
+    /// kind's `hits`, the others miss. `f64` on the host only (see `sphere_row_test`).
+    #[cfg(all(feature = "plan", feature = "batch"))]
+    Across {
+        /// The least `dir.x` of a ray that can meet the object.
+        lo: S,
+        /// The greatest.
+        hi: S,
+    },
     /// Each ray is tested with the kind's `hits`.
     Hits,
 }
@@ -784,11 +794,22 @@ pub(crate) fn closest_hits_in_row<S: Scalar, L: BatchRay<S>>(
                     _ => each_lane(lanes, index, z_limit, |ray, limit| object.hits(ray, limit)),
                 }
             }
-            (_, Some(object)) => match object.shape() {
-                // A sphere's test in the loop itself (what its table holds), not a call a ray.
+            (test, Some(object)) => match object.shape() {
+                // A sphere's test in the loop itself (what its table holds), not a call a
+                // ray; only the rays within the row's outline of it (`RowTest::Across`).
                 Shape::Sphere(sphere) => {
+                    let (lo, hi) = match *test {
+                        #[cfg(feature = "plan")]
+                        RowTest::Across { lo, hi } => (lo, hi),
+                        _ => (-S::UNBOUNDED, S::UNBOUNDED),
+                    };
                     each_lane(lanes, index, z_limit, |ray, limit| {
-                        sphere.nearest(ray, limit)
+                        let x = ray.dir.x;
+                        if x >= lo && x <= hi {
+                            sphere.nearest(ray, limit)
+                        } else {
+                            None
+                        }
                     });
                 }
                 _ => each_lane(lanes, index, z_limit, |ray, limit| object.hits(ray, limit)),
@@ -874,6 +895,8 @@ pub fn row_plane<S: Scalar>(row: &[RowEntry<S>]) -> Option<(usize, S, bool)> {
             }
             #[cfg(feature = "plan")]
             RowTest::Plane(_) => tested = true,
+            #[cfg(all(feature = "plan", feature = "batch"))]
+            RowTest::Across { .. } => tested = true,
             RowTest::Hits => tested = true,
         }
     }

@@ -129,6 +129,9 @@ impl<S: Scalar> Sphere<S> {
         kind: Entity::Sphere,
         hits: sphere_hits,
         normal: sphere_normal,
+        #[cfg(all(feature = "plan", feature = "batch"))]
+        row_test: sphere_row_test,
+        #[cfg(not(all(feature = "plan", feature = "batch")))]
         row_test: super::object_row_test,
         #[cfg(feature = "print")]
         printer: sphere_print,
@@ -176,6 +179,59 @@ pub fn sphere_normal<S: Scalar>(obj: &Object<S>, point: Vec3<S>) -> Vec3<S> {
     match obj.shape() {
         Shape::Sphere(sphere) => sphere.normal_at(point),
         _ => Vec3::ZERO,
+    }
+}
+
+/// `row_test` of a sphere, on the host in `f64` (the rays are unit vectors there): the
+/// rays of the row that can meet it, by their direction's `x` ([`RowTest::Across`]).
+///
+/// The row's rays run from the eye `E` along `d = (a, dy, dz)`, `a` the pixel's `x` less
+/// the eye's. The line meets a sphere about `C` (`w = C - E`) of radius `r` where
+/// `(w . d)^2 >= (|w|^2 - r^2) |d|^2`, a quadratic in `a` that holds between its roots when
+/// the eye is outside the sphere's slab along x (else every ray is tested). The radius is
+/// widened as the render plan's bounds are (`2e-3` radians and more), far beyond the
+/// roundings of the unit directions, and the unit direction's `x`, `a / |d|`, grows with
+/// `a`: the rays outside the bounds miss, bit for bit as their test would.
+#[cfg(all(feature = "plan", feature = "batch"))]
+pub fn sphere_row_test<S: Scalar>(
+    obj: &Object<S>,
+    origin: &super::RowOrigin<S>,
+) -> super::RowTest<S> {
+    use super::RowTest;
+    let Shape::Sphere(sphere) = obj.shape() else {
+        return RowTest::Hits;
+    };
+    if !S::COURSE_ORDER {
+        return RowTest::Hits;
+    }
+    let w = sphere.center.to_f64() - origin.eye.to_f64();
+    let (dy, dz) = (origin.dy.to_f64(), origin.dz.to_f64());
+    let distance = w.length();
+    let radius = sphere.radius.to_f64();
+    let r = radius + 2e-3 * (distance + radius) + 1e-9 * (distance + 1.0);
+    let q = distance * distance - r * r;
+    let k = w.y * dy + w.z * dz;
+    let m = dy * dy + dz * dz;
+    // A a^2 + B a + C >= 0.
+    let (a2, b, c) = (w.x * w.x - q, 2.0 * w.x * k, k * k - q * m);
+    let disc = b * b - 4.0 * a2 * c;
+    if !(q > 0.0 && a2 < 0.0 && m > 0.0) {
+        return RowTest::Hits;
+    }
+    if !(disc > 0.0) {
+        // No ray of the row passes within the widened radius.
+        return RowTest::Miss;
+    }
+    let root = crate::scalar::sqrt_f64(disc);
+    // a2 < 0: the roots in increasing order.
+    let (low, high) = ((-b + root) / (2.0 * a2), (-b - root) / (2.0 * a2));
+    let unit_x = |a: f64| a / crate::scalar::sqrt_f64(a * a + m);
+    match (
+        S::from_f64_checked(unit_x(low)),
+        S::from_f64_checked(unit_x(high)),
+    ) {
+        (Some(lo), Some(hi)) => RowTest::Across { lo, hi },
+        _ => RowTest::Hits,
     }
 }
 
@@ -247,6 +303,78 @@ mod tests {
                 Err(ErrorKind::NotPositive { attr: Attr::Radius }),
                 "{radius}"
             );
+        }
+    }
+
+    #[cfg(all(feature = "plan", feature = "batch"))]
+    mod row_test {
+        use super::*;
+        use crate::object::{RowOrigin, RowTest};
+        use proptest::prelude::*;
+
+        proptest! {
+            /// The rays of a row outside `RowTest::Across` miss the sphere, down to the
+            /// pixels next to its outline.
+            #[test]
+            fn rays_outside_the_bounds_miss(
+                center in prop::array::uniform3(-10.0f64..10.0),
+                radius in 0.01f64..5.0,
+                eye in prop::array::uniform3(-10.0f64..10.0),
+                dy in -10.0f64..10.0,
+                dz in -12.0f64..-0.1,
+                xs in prop::collection::vec(-30.0f64..30.0, 32),
+            ) {
+                let Ok(obj) = sphere_init::<f64>("s", 0, &SphereDef { center, radius }, 1.0) else {
+                    return Ok(());
+                };
+                let eye = Vec3::new(eye[0], eye[1], eye[2]);
+                let origin = RowOrigin { eye, dy, dz, z_limit: f64::INFINITY };
+                let Shape::Sphere(sphere) = obj.shape() else { unreachable!() };
+                let test = sphere_row_test(&obj, &origin);
+                // The row's rays through `xs`, and through points just beside the outline:
+                // where the line from the eye grazes the sphere.
+                for &a in &xs {
+                    let d = Vec3::new(a, dy, dz);
+                    let Some(dir) = d.unit() else { continue };
+                    let ray = Ray::with_length(eye, dir, 1.0);
+                    let hit = sphere.nearest(&ray, f64::INFINITY);
+                    match test {
+                        RowTest::Miss => prop_assert!(hit.is_none()),
+                        RowTest::Across { lo, hi } if !(dir.x >= lo && dir.x <= hi) => {
+                            prop_assert!(hit.is_none(), "{a} {lo} {hi}");
+                        }
+                        _ => {}
+                    }
+                }
+            }
+        }
+
+        /// A ball in the middle of the view: the row through its centre tests the rays of
+        /// its width (and the margin), not the others.
+        #[test]
+        fn the_bounds_hold_the_ball_and_little_more() {
+            let obj = sphere_init::<f64>(
+                "s",
+                0,
+                &SphereDef {
+                    center: [4.0, 3.0, -6.0],
+                    radius: 1.0,
+                },
+                1.0,
+            )
+            .unwrap();
+            let origin = RowOrigin {
+                eye: Vec3::new(4.0, 3.0, 4.0),
+                dy: 0.0,
+                dz: -4.0,
+                z_limit: 0.01,
+            };
+            let RowTest::Across { lo, hi } = sphere_row_test(&obj, &origin) else {
+                panic!("no bounds");
+            };
+            // The ball spans half-angle asin(1 / 10): dir.x within 0.1 of zero.
+            assert!(lo < -0.1 && lo > -0.11, "{lo}");
+            assert!(hi > 0.1 && hi < 0.11, "{hi}");
         }
     }
 }

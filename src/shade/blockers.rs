@@ -131,28 +131,31 @@ struct RectCone {
 }
 
 impl RectCone {
-    /// Whether the way `l` from `point` to the light lies clearly outside the cone and not
-    /// along the plane, or `point` clearly on the light's side of the plane.
+    /// Whether the way `l` from `point` to the light (`distance` long) lies clearly outside
+    /// the cone and not along the plane, or `point` clearly on the light's side of the plane.
     #[inline(always)]
-    fn clear(&self, point: Vec3<f64>, l: Vec3<f64>) -> bool {
+    fn clear(&self, point: Vec3<f64>, l: Vec3<f64>, distance: f64) -> bool {
         let [x, y, z] = self.axis;
         let [nx, ny, nz] = self.normal;
         let across = l.x * nx + l.y * ny + l.z * nz;
         (-(l.x * x + l.y * y + l.z * z) < self.cos && !(across.abs() < GRAZING))
-            || self.side.is_some_and(|side| side.clear(point))
+            || self.side.is_some_and(|side| side.clear(point, distance))
     }
 }
 
 /// A plane seen from a light: its normal and `N.point` turned so that the light's side is
-/// the positive one.
+/// the positive one, and the margin as a function of the lane's distance to the light.
 #[derive(Clone, Copy, Debug)]
 struct Side {
     normal: [f64; 3],
     n_dot_point: f64,
-    /// `|N.point| + |L|_1`.
-    size: f64,
-    /// The light's distance from the plane.
-    light: f64,
+    /// The margin `2^-40 s` bounded by `base + per_distance d`: with `d` the distance from
+    /// the point to the light, `|P|_1 <= |L|_1 + sqrt 3 d` (one product for the three
+    /// absolute values and sums).
+    base: f64,
+    per_distance: f64,
+    /// The distance from the light within which the light itself is clearly off the plane.
+    reach: f64,
 }
 
 impl Side {
@@ -160,21 +163,26 @@ impl Side {
         let (normal, n_dot_point) = plane;
         let light_side = n_dot_point - normal.dot(light);
         let turn = if light_side < 0.0 { -1.0 } else { 1.0 };
+        let base = (n_dot_point.abs() + 2.0 * norm_1(light)) * MARGIN;
+        // sqrt 3, rounded up.
+        let per_distance = 1.732_051 * MARGIN;
         Self {
             normal: [normal.x * turn, normal.y * turn, normal.z * turn],
             n_dot_point: n_dot_point * turn,
-            size: n_dot_point.abs() + norm_1(light),
-            light: light_side.abs(),
+            base,
+            per_distance,
+            // Where `|N.L - N.point| > base + per_distance d`.
+            reach: (light_side.abs() - base) / per_distance,
         }
     }
 
-    /// Whether `point` and the light lie clearly on one side of the plane (see the module's
-    /// documentation).
+    /// Whether `point`, `distance` from the light (within [`reach`](Self::reach)), and the
+    /// light lie clearly on one side of the plane (see the module's documentation).
     #[inline(always)]
-    fn clear(&self, p: Vec3<f64>) -> bool {
-        let margin = (self.size + norm_1(p)) * MARGIN;
+    fn clear(&self, p: Vec3<f64>, distance: f64) -> bool {
+        let margin = self.base + self.per_distance * distance;
         let [nx, ny, nz] = self.normal;
-        self.light > margin && self.n_dot_point - (p.x * nx + p.y * ny + p.z * nz) > margin
+        self.n_dot_point - (p.x * nx + p.y * ny + p.z * nz) > margin
     }
 }
 
@@ -206,8 +214,9 @@ impl Clearing {
             if let Some(plane) =
                 plane_of(object).filter(|_| !matches!(object.shape(), Shape::FPlane(_)))
             {
-                *clearing.planes.iter_mut().find(|p| p.is_none())? =
-                    Some((index, Side::new(plane, light)));
+                let side = Side::new(plane, light);
+                clearing.reach = clearing.reach.min(side.reach);
+                *clearing.planes.iter_mut().find(|p| p.is_none())? = Some((index, side));
                 continue;
             }
             // A finite plane's cone where it is narrow (a wide one clears few lanes: spec3's
@@ -254,12 +263,12 @@ impl Clearing {
         // Each plane written out (as a loop, +3 % on shiny3).
         let [first, second] = &self.planes;
         if let Some((index, side)) = first {
-            if *index != own && !side.clear(point) {
+            if *index != own && !side.clear(point, distance) {
                 return false;
             }
         }
         if let Some((index, side)) = second {
-            if *index != own && !side.clear(point) {
+            if *index != own && !side.clear(point, distance) {
                 return false;
             }
         }
@@ -267,12 +276,12 @@ impl Clearing {
         if self.any_rects {
             let [first, second] = &self.rects;
             if let Some((index, cone)) = first {
-                if *index != own && !cone.clear(point, l) {
+                if *index != own && !cone.clear(point, l, distance) {
                     return false;
                 }
             }
             if let Some((index, cone)) = second {
-                if *index != own && !cone.clear(point, l) {
+                if *index != own && !cone.clear(point, l, distance) {
                     return false;
                 }
             }
@@ -457,10 +466,11 @@ fn rect_cone<S: Scalar>(
         normal: [n.x, n.y, n.z],
         side,
     };
-    let mut reach = f64::INFINITY;
+    let mut reach = side.map_or(f64::INFINITY, |side| side.reach);
     if let Some((axis, cos, d)) = cone(center, radius, light) {
         if cos > NARROW_COS && norm_1(center) + norm_1(light) < d * RECT_REACH {
-            (rect_cone.axis, rect_cone.cos, reach) = (axis, cos, d * RECT_REACH);
+            (rect_cone.axis, rect_cone.cos) = (axis, cos);
+            reach = reach.min(d * RECT_REACH);
         }
     }
     (rect_cone.cos > -2.0 || side.is_some()).then_some((rect_cone, reach))
@@ -680,7 +690,8 @@ mod tests {
         let (p, light) = (v(p), v(light));
         for object in [plain, finite, tiled] {
             let side = Side::new(plane_of(&object).unwrap(), light);
-            if side.clear(p) {
+            let distance = (light - p).length();
+            if distance < side.reach && side.clear(p, distance) {
                 assert!(
                     !blocks(&object, p, light),
                     "{normal:?} {point:?} {p:?} {light:?}"
@@ -746,12 +757,12 @@ mod tests {
             let Some((light, p)) = near_the_edge(center, radius, &way, graze.then_some(n)) else {
                 return Ok(());
             };
-            let Some((cone, _)) = rect_cone(&objects, &[0], 0, light) else {
+            let Some((cone, reach)) = rect_cone(&objects, &[0], 0, light) else {
                 return Ok(());
             };
             prop_assert!(cone.side.is_none());
             let (ray, length) = shadow(p, light).unwrap();
-            if cone.clear(p, ray.dir) {
+            if length < reach && cone.clear(p, ray.dir, length) {
                 prop_assert!(objects[0].hits(&ray, length).is_none());
             }
         }

@@ -42,6 +42,18 @@ impl<S: Scalar> RowRays<S> {
             z_limit,
         }
     }
+
+    /// The world `x` of the row's pixels, less the eye's, from the first to the last
+    /// column (shifted, for anti-aliasing's samples), in `f64`.
+    #[cfg(feature = "batch")]
+    pub(crate) fn span_from_eye(&self, width: S) -> [f64; 2] {
+        #[cfg(feature = "antialias")]
+        let shift = self.shift_x.to_f64();
+        #[cfg(not(feature = "antialias"))]
+        let shift = 0.0;
+        let eye_x = self.eye.x.to_f64();
+        [shift - eye_x, width.to_f64() + shift - eye_x]
+    }
 }
 
 impl<S: Scalar> Iterator for RowRays<S> {

@@ -293,21 +293,22 @@ struct View {
     height: u16,
 }
 
-/// A set of screen heights `lo <= sy <= hi` on the image plane (either end may be infinite).
-#[derive(Clone, Copy)]
-struct Heights {
-    lo: f64,
-    hi: f64,
+/// A set of screen heights `lo <= sy <= hi` on the image plane (either end may be
+/// infinite); also an interval of any one coordinate (see `object::behind`).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Heights {
+    pub(crate) lo: f64,
+    pub(crate) hi: f64,
 }
 
 impl Heights {
-    const ALL: Self = Self {
+    pub(crate) const ALL: Self = Self {
         lo: f64::NEG_INFINITY,
         hi: f64::INFINITY,
     };
 
     /// Keeps the heights where `p + q sy >= 0`.
-    fn where_nonnegative(self, p: f64, q: f64) -> Self {
+    pub(crate) fn where_nonnegative(self, p: f64, q: f64) -> Self {
         if q > 0.0 {
             Self {
                 lo: self.lo.max(-p / q),

@@ -364,6 +364,12 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
                 let _ = tests.push(RowEntry { index, test });
             }
         }
+        // The planes the row's rays meet only behind another (`f64`, in batches).
+        #[cfg(feature = "batch")]
+        if self.shading == Shading::Color {
+            let span = rays.span_from_eye(self.camera.world()[0]);
+            crate::object::behind::hide_behind(self.shader.objects(), tests, &origin, span);
+        }
         true
     }
 

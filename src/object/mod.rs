@@ -8,6 +8,8 @@
 //! The defaults are real functions like the C `object_print` and the no-hit function, and a
 //! kind's printer calls the common [`object_print`] first.
 
+#[cfg(all(feature = "plan", feature = "batch"))]
+pub(crate) mod behind;
 pub mod fplane;
 pub mod plane;
 pub mod revsurf;
@@ -125,6 +127,18 @@ pub enum RowTest<S> {
         lo: S,
         /// The greatest.
         hi: S,
+    },
+    /// [`Plane`](Self::Plane) for only the rays whose (unit) direction's `x` lies in
+    /// `lo..=hi`; the others meet the plane behind another (see `behind`).
+    #[cfg(all(feature = "plan", feature = "batch"))]
+    PlaneAcross {
+        /// As [`Plane`](Self::Plane)'s.
+        distance: S,
+        /// The least `dir.x` of a ray that can see the plane, rounded down (an `f32`: the
+        /// test no larger than [`Across`](Self::Across)).
+        lo: f32,
+        /// The greatest, rounded up.
+        hi: f32,
     },
     /// Each ray is tested with the kind's `hits`.
     Hits,
@@ -751,6 +765,12 @@ pub(crate) fn closest_hits_in_row<S: Scalar, L: BatchRay<S>>(
                     nearest.take_row_at(index, *t);
                 }
             }
+            // Only the rays that can see the plane (see `behind`).
+            #[cfg(feature = "plan")]
+            (&RowTest::PlaneAcross { distance, lo, hi }, Some(object)) => {
+                let [lo, hi] = [S::from_f64(f64::from(lo)), S::from_f64(f64::from(hi))];
+                lanes_across(lanes, object, [distance, lo, hi], index, z_limit);
+            }
             #[cfg(feature = "plan")]
             (RowTest::Plane(distance), Some(object)) if S::COURSE_ORDER => {
                 // The kind and the plane's axis matched once, each case its own loop.
@@ -844,6 +864,27 @@ fn each_lane<'a, S: Scalar + 'a>(
     }
 }
 
+/// [`RowTest::PlaneAcross`]'s test (`[distance, lo, hi]`) for the lanes whose direction's
+/// `x` lies in `lo..=hi`.
+#[cfg(all(feature = "batch", feature = "plan"))]
+#[inline(always)]
+fn lanes_across<'a, S: Scalar + 'a>(
+    lanes: impl Iterator<Item = (&'a mut Nearest<S>, &'a Ray<S>)>,
+    object: &Object<S>,
+    [distance, lo, hi]: [S; 3],
+    index: usize,
+    z_limit: S,
+) {
+    let lanes = lanes.filter(move |(_, ray)| ray.dir.x >= lo && ray.dir.x <= hi);
+    match object.shape() {
+        Shape::Plane(plane) => lanes_from_plane(lanes, plane, distance, index, z_limit),
+        Shape::TiledPlane(tiled) => {
+            lanes_from_plane(lanes, &tiled.rect.plane, distance, index, z_limit);
+        }
+        _ => each_lane(lanes, index, z_limit, |ray, limit| object.hits(ray, limit)),
+    }
+}
+
 /// [`each_lane`] for an infinite plane `distance` from the rays' base, with the plane's
 /// axis (if it reads one) chosen once.
 #[cfg(all(feature = "batch", feature = "plan"))]
@@ -896,7 +937,7 @@ pub fn row_plane<S: Scalar>(row: &[RowEntry<S>]) -> Option<(usize, S, bool)> {
             #[cfg(feature = "plan")]
             RowTest::Plane(_) => tested = true,
             #[cfg(all(feature = "plan", feature = "batch"))]
-            RowTest::Across { .. } => tested = true,
+            RowTest::Across { .. } | RowTest::PlaneAcross { .. } => tested = true,
             RowTest::Hits => tested = true,
         }
     }

@@ -242,6 +242,14 @@ impl<S: Scalar> Shader<'_, S> {
             LightKind::Plain => {
                 self.add_light(light, shaded, out, ends, filtered, LightKind::Plain);
             }
+            // Only where shadows are filtered (translucent3's pane): a copy less elsewhere.
+            LightKind::PlainBehindOne if filtered => {
+                let kind = LightKind::PlainBehindOne;
+                self.add_light(light, shaded, out, ends, true, kind);
+            }
+            LightKind::PlainBehindOne => {
+                self.add_light(light, shaded, out, ends, false, LightKind::Plain);
+            }
             LightKind::PointWithGlints => {
                 let kind = LightKind::PointWithGlints;
                 self.add_light(light, shaded, out, ends, filtered, kind);

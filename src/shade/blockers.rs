@@ -116,6 +116,9 @@ pub(crate) struct Clearing {
     /// The finite planes' indices and cones.
     rects: [Option<(usize, RectCone)>; MAX_SIDES],
     any_rects: bool,
+    /// The one finite plane, where it is the only blocker (translucent3's pane): its test
+    /// alone, first.
+    only_rect: Option<(usize, RectCone)>,
 }
 
 /// A finite plane seen from a light: the cone from the light that holds its bounding
@@ -206,6 +209,7 @@ impl Clearing {
             planes: [None; MAX_SIDES],
             rects: [None; MAX_SIDES],
             any_rects: false,
+            only_rect: None,
         };
         for &number in blockers {
             let index = usize::from(number);
@@ -244,6 +248,14 @@ impl Clearing {
             *clearing.cos.get_mut(k)? = cos;
             clearing.reach = clearing.reach.min(d * CONE_REACH);
             clearing.count = k + 1;
+        }
+        if let ([Some(rect), None], [None, None], 0, None) = (
+            clearing.rects,
+            clearing.planes,
+            clearing.count,
+            clearing.other,
+        ) {
+            clearing.only_rect = Some(rect);
         }
         Some(clearing)
     }
@@ -303,6 +315,31 @@ impl Clearing {
             }
         }
         true
+    }
+}
+
+impl Clearing {
+    /// Whether the clearing is one finite plane's alone.
+    pub(crate) fn only_rect(&self) -> bool {
+        self.only_rect.is_some()
+    }
+
+    /// [`clear`](Self::clear) for a clearing of one finite plane alone (see
+    /// [`only_rect`](Self::only_rect)), without the other blockers' checks.
+    #[inline(always)]
+    pub(crate) fn clear_only_rect(
+        &self,
+        point: Vec3<f64>,
+        l: Vec3<f64>,
+        distance: f64,
+        own: usize,
+    ) -> bool {
+        match &self.only_rect {
+            Some((index, cone)) => {
+                distance < self.reach && (*index == own || cone.clear(point, l, distance))
+            }
+            None => self.clear(point, l, distance, own),
+        }
     }
 }
 

@@ -409,6 +409,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
             light.spot.is_none() && light.slide().is_none(),
             self.stages.glints,
         ) {
+            (true, false) if self.shadows_of(light).only_rect() => LightKind::PlainBehindOne,
             (true, false) => LightKind::Plain,
             (true, true) => LightKind::PointWithGlints,
             (false, _) => LightKind::Any,
@@ -477,7 +478,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         if filtered {
             // Cleared: the walk would meet nothing, and its filter would be ones (a product
             // by one is exact; a filter left out would be a branch more).
-            let through = if shadows.clear(hit.point, l, distance, index) {
+            let through = if shadows.clear(hit.point, l, distance, index, kind) {
                 Vec3::new(S::ONE, S::ONE, S::ONE)
             } else {
                 let among = &shadows.among;
@@ -487,7 +488,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 through
             };
             filter = Some(through);
-        } else if self.stages.shadows && !shadows.clear(hit.point, l, distance, index) {
+        } else if self.stages.shadows && !shadows.clear(hit.point, l, distance, index, kind) {
             // Nothing is transparent: the first blocker decides, whichever it is (unless the
             // clearing shows that no object can block: see `blockers`).
             let shadow = Ray::with_length(hit.point, l, S::ONE);
@@ -512,7 +513,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let mut c = lit * cos / distance;
         let material = surface.material;
         let shininess = material.shininess;
-        let glints = kind != LightKind::Plain && self.stages.glints;
+        let glints = !kind.plain() && self.stages.glints;
         if cfg!(feature = "glint") && glints && shininess != S::ZERO {
             let halfway = (*eye - hit.point).unit().and_then(|v| (v + l).unit());
             if let Some(h) = halfway {
@@ -838,14 +839,26 @@ pub(crate) struct Shadows<'a, S> {
 impl<S: Scalar> Shadows<'_, S> {
     /// Whether the cones and sides show that no object blocks the unit way `l` (`distance` long) to
     /// the light from `point`, a hit on object `own`.
+    /// (`kind`: a light whose clearing is one finite plane's alone has a copy of its own.)
     #[inline(always)]
-    fn clear(&self, point: Vec3<S>, l: Vec3<S>, distance: S, own: usize) -> bool {
+    fn clear(&self, point: Vec3<S>, l: Vec3<S>, distance: S, own: usize, kind: LightKind) -> bool {
         #[cfg(feature = "batch")]
         if let (true, Some(clearing)) = (S::COURSE_ORDER, self.clearing) {
-            return clearing.clear(point.to_f64(), l.to_f64(), distance.to_f64(), own);
+            let (point, l, distance) = (point.to_f64(), l.to_f64(), distance.to_f64());
+            return if kind == LightKind::PlainBehindOne {
+                clearing.clear_only_rect(point, l, distance, own)
+            } else {
+                clearing.clear(point, l, distance, own)
+            };
         }
-        let _ = (point, l, distance, own);
+        let _ = (point, l, distance, own, kind);
         false
+    }
+
+    /// Whether the clearing is one finite plane's alone.
+    #[cfg(feature = "batch")]
+    fn only_rect(&self) -> bool {
+        self.clearing.is_some_and(|clearing| clearing.only_rect())
     }
 }
 
@@ -857,11 +870,27 @@ impl<S: Scalar> Shadows<'_, S> {
 enum LightKind {
     /// A point light in a render without glints.
     Plain,
+    /// [`Plain`](Self::Plain), whose shadows only one finite plane can cast (see
+    /// `blockers`): its clearing's test alone (translucent3).
+    #[cfg(feature = "batch")]
+    PlainBehindOne,
     /// A point light in a render with glints.
     #[cfg(feature = "batch")]
     PointWithGlints,
     /// Any light: a spotlight's cone, a projector's slide, glints.
     Any,
+}
+
+impl LightKind {
+    /// A point light in a render without glints.
+    #[inline(always)]
+    fn plain(self) -> bool {
+        #[cfg(feature = "batch")]
+        if self == LightKind::PlainBehindOne {
+            return true;
+        }
+        self == LightKind::Plain
+    }
 }
 
 /// What the rays leaving a hit need: the object they leave, the length of their

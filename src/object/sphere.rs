@@ -183,7 +183,8 @@ pub fn sphere_normal<S: Scalar>(obj: &Object<S>, point: Vec3<S>) -> Vec3<S> {
 }
 
 /// `row_test` of a sphere, on the host in `f64` (the rays are unit vectors there): the
-/// rays of the row that can meet it, by their direction's `x` ([`RowTest::Across`]).
+/// rays of the row that can meet it, by their direction's `x`
+/// ([`RowTest::Across`](super::RowTest::Across)).
 ///
 /// The row's rays run from the eye `E` along `d = (a, dy, dz)`, `a` the pixel's `x` less
 /// the eye's. The line meets a sphere about `C` (`w = C - E`) of radius `r` where

@@ -66,7 +66,7 @@ const MARGIN: f64 = 1.0 / 1_099_511_627_776.0;
 /// The most spheres a light's cones hold.
 pub(crate) const MAX_CONES: usize = 4;
 
-/// The most planes whose sides a light's cones test.
+/// The most infinite planes, and the most finite planes, a light's clearing tests.
 const MAX_SIDES: usize = 2;
 
 /// `2^-20`: how much a sphere's cone is widened, in the sine of its half-angle.
@@ -87,7 +87,7 @@ const NARROW_COS: f64 = core::f64::consts::FRAC_1_SQRT_2;
 const GRAZING: f64 = 1.0 / 64.0;
 
 /// Each light's list of the kept objects that can block it, in increasing index order,
-/// and the cones of those that are spheres.
+/// and what clears its lanes.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct LightBlockers {
     lists: [[u16; MAX_BLOCKERS]; MAX_LIGHTS],
@@ -103,21 +103,22 @@ pub(crate) struct Clearing {
     /// The blocker with neither: lanes on it skip it (their own shadow rays do), the
     /// others' need its shadow test.
     other: Option<usize>,
+    /// The spheres: how many, and their indices.
     count: usize,
     index: [usize; MAX_CONES],
     /// The unit way from the light to each sphere's centre.
     axis: [[f64; 3]; MAX_CONES],
     /// The cosine of each widened cone's half-angle.
     cos: [f64; MAX_CONES],
-    /// The distance from the light within which the cones are trusted.
+    /// The distance from the light within which the cones and sides are trusted.
     reach: f64,
     /// The planes' indices and sides.
     planes: [Option<(usize, Side)>; MAX_SIDES],
-    /// The finite planes' indices and cones.
+    /// The finite planes' indices and cones, and whether there is one.
     rects: [Option<(usize, RectCone)>; MAX_SIDES],
     any_rects: bool,
-    /// The one finite plane, where it is the only blocker (translucent3's pane): its test
-    /// alone, first.
+    /// The one finite plane, where it is the only blocker (translucent3's pane): its
+    /// light's loop copy tests it alone (`LightKind::PlainBehindOne`).
     only_rect: Option<(usize, RectCone)>,
 }
 

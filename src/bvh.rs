@@ -79,9 +79,7 @@ pub(crate) fn bounds<S: Scalar>(object: &Object<S>) -> Option<(Vec3<f64>, Vec3<f
         Shape::TexPlane(textured) => &textured.rect,
         Shape::Plane(_) | Shape::TiledPlane(_) | Shape::RevSurf(_) => return None,
     };
-    let p = rect.plane.point.to_f64();
-    let across = rect.u.to_f64() * rect.dimensions[0].to_f64();
-    let up = rect.v.to_f64() * rect.dimensions[1].to_f64();
+    let [p, across, up] = rect.corner_and_sides();
     let corners = [p + across, p + up, p + across + up];
     Some(corners.iter().fold((p, p), |(low, high), &c| {
         (min_each(low, c), max_each(high, c))

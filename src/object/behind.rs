@@ -19,7 +19,7 @@
 //! At every `a` the nearest plane is not hidden (only a nearer one could hide it), so each
 //! ray still tests the plane it would have found.
 
-use super::{Object, RowEntry, RowOrigin, RowTest, Shape};
+use super::{Object, RowEntry, RowOrigin, RowTest};
 use crate::plan::Heights;
 use crate::scalar::Scalar;
 
@@ -65,11 +65,7 @@ struct RowPlane {
 
 impl RowPlane {
     fn of<S: Scalar>(object: &Object<S>, origin: &RowOrigin<S>, distance: S) -> Option<Self> {
-        let plane = match object.shape() {
-            Shape::Plane(plane) => plane,
-            Shape::TiledPlane(tiled) => &tiled.rect.plane,
-            _ => return None,
-        };
+        let plane = object.infinite_plane()?;
         let n = plane.unit_normal.to_f64();
         let (dy, dz) = (origin.dy.to_f64(), origin.dz.to_f64());
         Some(Self {

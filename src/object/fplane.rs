@@ -72,6 +72,16 @@ pub struct Rect<S> {
 const NO_PAIR: u8 = u8::MAX;
 
 impl<S: Scalar> Rect<S> {
+    /// The corner and the two sides from it (width along `u`, height along `v`), in `f64`:
+    /// what bounds the rectangle (the tree's boxes, the shadows' cones).
+    pub(crate) fn corner_and_sides(&self) -> [Vec3<f64>; 3] {
+        [
+            self.plane.point.to_f64(),
+            self.u.to_f64() * self.dimensions[0].to_f64(),
+            self.v.to_f64() * self.dimensions[1].to_f64(),
+        ]
+    }
+
     /// Checks a definition: a plane's checks, `xdir` not along the normal, positive size.
     pub(crate) fn build(def: &RectDef, scale: f64) -> Result<Self, ErrorKind> {
         let plane = Plane::build(

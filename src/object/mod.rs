@@ -321,10 +321,15 @@ impl<S: Scalar> Object<S> {
     /// has no x part (`0 * x` adds nothing to their dot products, and the hit's `z`, which
     /// the z rule reads, is the same). Asked once a row, not per ray.
     pub fn hits_ignore_x(&self) -> bool {
+        self.infinite_plane()
+            .is_some_and(|plane| plane.unit_normal.x == S::ZERO)
+    }
+    /// The plane of an infinite plane kind (plain or tiled), whose test is its plane's.
+    pub fn infinite_plane(&self) -> Option<&Plane<S>> {
         match &self.shape {
-            Shape::Plane(plane) => plane.unit_normal.x == S::ZERO,
-            Shape::TiledPlane(tiled) => tiled.rect.plane.unit_normal.x == S::ZERO,
-            _ => false,
+            Shape::Plane(plane) => Some(plane),
+            Shape::TiledPlane(tiled) => Some(&tiled.rect.plane),
+            _ => None,
         }
     }
     /// `hits` for a ray whose base is `distance` from the object's plane (a prepared
@@ -876,12 +881,9 @@ fn lanes_across<'a, S: Scalar + 'a>(
     z_limit: S,
 ) {
     let lanes = lanes.filter(move |(_, ray)| ray.dir.x >= lo && ray.dir.x <= hi);
-    match object.shape() {
-        Shape::Plane(plane) => lanes_from_plane(lanes, plane, distance, index, z_limit),
-        Shape::TiledPlane(tiled) => {
-            lanes_from_plane(lanes, &tiled.rect.plane, distance, index, z_limit);
-        }
-        _ => each_lane(lanes, index, z_limit, |ray, limit| object.hits(ray, limit)),
+    match object.infinite_plane() {
+        Some(plane) => lanes_from_plane(lanes, plane, distance, index, z_limit),
+        None => each_lane(lanes, index, z_limit, |ray, limit| object.hits(ray, limit)),
     }
 }
 

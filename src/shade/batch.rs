@@ -238,17 +238,15 @@ impl<S: Scalar> Shader<'_, S> {
         // Each kind a constant where its copy is written, in arms of its own (through one
         // closure called from three arms, the compiler made one copy taking the kind at run
         // time: +9 to +30 % instructions).
-        match self.light_kind(light) {
+        // (`add_light` works out the light's shadows again: the record kept from here to
+        // there cost fplane3 +2 % in registers.)
+        match self.light_kind(light, filtered) {
             LightKind::Plain => {
                 self.add_light(light, shaded, out, ends, filtered, LightKind::Plain);
             }
-            // Only where shadows are filtered (translucent3's pane): a copy less elsewhere.
-            LightKind::PlainBehindOne if filtered => {
+            LightKind::PlainBehindOne => {
                 let kind = LightKind::PlainBehindOne;
                 self.add_light(light, shaded, out, ends, true, kind);
-            }
-            LightKind::PlainBehindOne => {
-                self.add_light(light, shaded, out, ends, false, LightKind::Plain);
             }
             LightKind::PointWithGlints => {
                 let kind = LightKind::PointWithGlints;

@@ -118,7 +118,9 @@ pub(crate) struct Clearing {
     rects: [Option<(usize, RectCone)>; MAX_SIDES],
     any_rects: bool,
     /// The one finite plane, where it is the only blocker (translucent3's pane): its
-    /// light's loop copy tests it alone (`LightKind::PlainBehindOne`).
+    /// light's loop copy tests it alone (`LightKind::PlainBehindOne`). A copy of the first
+    /// of `rects`, read without a check of the others (as a flag beside `rects`,
+    /// translucent3 +1.7 %).
     only_rect: Option<(usize, RectCone)>,
 }
 
@@ -516,9 +518,8 @@ fn rect_cone<S: Scalar>(
 
 /// The centre and radius of a sphere that holds a rectangle, in `f64`.
 fn bounding_sphere<S: Scalar>(rect: &Rect<S>) -> (Vec3<f64>, f64) {
-    let across = rect.u.to_f64() * rect.dimensions[0].to_f64();
-    let up = rect.v.to_f64() * rect.dimensions[1].to_f64();
-    let center = rect.plane.point.to_f64() + (across + up) * 0.5;
+    let [corner, across, up] = rect.corner_and_sides();
+    let center = corner + (across + up) * 0.5;
     // A hair wider than half the diagonal: the rounding of the centre.
     (center, (across + up).length() * 0.5 * (1.0 + 1e-12))
 }
@@ -526,10 +527,8 @@ fn bounding_sphere<S: Scalar>(rect: &Rect<S>) -> (Vec3<f64>, f64) {
 /// The unit normal and `N.point` of a kind whose test misses wherever its plane's does.
 fn plane_of<S: Scalar>(object: &Object<S>) -> Option<(Vec3<f64>, f64)> {
     let plane = match object.shape() {
-        Shape::Plane(plane) => plane,
-        Shape::TiledPlane(tiled) => &tiled.rect.plane,
         Shape::FPlane(rect) => &rect.plane,
-        _ => return None,
+        _ => object.infinite_plane()?,
     };
     Some((plane.unit_normal.to_f64(), plane.n_dot_point.to_f64()))
 }

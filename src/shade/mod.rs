@@ -404,12 +404,15 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// glints.
     #[cfg(feature = "batch")]
     #[inline(always)]
-    fn light_kind(&self, light: &Light<S>) -> LightKind {
+    fn light_kind(&self, light: &Light<S>, filtered: bool) -> LightKind {
         match (
             light.spot.is_none() && light.slide().is_none(),
             self.stages.glints,
         ) {
-            (true, false) if self.shadows_of(light).only_rect() => LightKind::PlainBehindOne,
+            // Only where shadows are filtered (translucent3's pane): a copy less elsewhere.
+            (true, false) if filtered && self.shadows_of(light).only_rect() => {
+                LightKind::PlainBehindOne
+            }
             (true, false) => LightKind::Plain,
             (true, true) => LightKind::PointWithGlints,
             (false, _) => LightKind::Any,

@@ -412,3 +412,31 @@ fn the_binary_is_a_static_pie_where_the_build_links_it_so() {
     let out = microray(&["check", "scenes/minimal.txt"]);
     assert!(out.status.success(), "{}", text(&out.stderr));
 }
+
+/// The report a render ends with (without `-q`): the scene, its size, the render stage's
+/// time in milliseconds below a second, the number type and threads, and the output.
+/// `cargo xtask host-bench` reads the time from it.
+#[test]
+fn render_reports_its_time_in_milliseconds() {
+    let dir = std::env::temp_dir().join(format!("microray-cli-report-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("minimal.ppm");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/minimal.txt");
+    let (scene, out) = (scene.to_str().unwrap(), out.to_str().unwrap());
+    let run = microray(&["render", scene, "-o", out, "--threads", "2"]);
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let report = text(&run.stderr);
+    let rest = report
+        .strip_prefix(&format!("{scene}: "))
+        .unwrap_or_else(|| panic!("{report}"));
+    let (size, rest) = rest.split_once(" in ").unwrap();
+    let (width, height) = size.split_once('x').unwrap();
+    assert!(width.parse::<u32>().unwrap() > 0 && height.parse::<u32>().unwrap() > 0);
+    let (ms, rest) = rest
+        .split_once(" ms (")
+        .unwrap_or_else(|| panic!("{report}"));
+    let ms: f64 = ms.parse().unwrap();
+    assert!(ms > 0.0 && ms < 1000.0, "{report}");
+    assert_eq!(rest.trim_end(), format!("f64, 2 threads) -> {out}"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -564,12 +564,19 @@ fn render<S: Scalar>(path: &Path, output: &Path, options: &Options) -> Result<()
         } else {
             format!(", {} threads", options.threads)
         };
+        // Milliseconds below a second: the host tracer's renders mostly take a few, and
+        // `cargo xtask host-bench` reads this figure.
+        let seconds = start.elapsed().as_secs_f64();
+        let took = if seconds < 1.0 {
+            format!("{:.2} ms", seconds * 1e3)
+        } else {
+            format!("{seconds:.2} s")
+        };
         eprintln!(
-            "{}: {}x{} in {:.2} s ({order}{}{threads}) -> {}",
+            "{}: {}x{} in {took} ({order}{}{threads}) -> {}",
             path.display(),
             size.width,
             size.height,
-            start.elapsed().as_secs_f64(),
             S::NAME,
             output.display()
         );

@@ -258,8 +258,64 @@ fn median(values: &[f64]) -> f64 {
     sorted.get(sorted.len() / 2).copied().unwrap_or(0.0)
 }
 
-/// The wall-clock and CPU seconds (user and system) of one run of `command`.
-fn timed_run(command: &mut Command) -> Result<(f64, f64), String> {
+/// One build's whole-process runs of one scene: one thread's CPU and wall-clock seconds,
+/// all cores' wall-clock seconds, and the render stage of each (as `microray` reports it).
+#[derive(Clone, Default)]
+struct Times {
+    one_cpu: Vec<f64>,
+    one_wall: Vec<f64>,
+    all_wall: Vec<f64>,
+    one_stage: Vec<f64>,
+    all_stage: Vec<f64>,
+}
+
+/// [`timed_run`] of `binary render SCENE -o OUT --threads THREADS` without `-q`, and the
+/// render stage's seconds that it reports (`... in 8.05 ms (...)`: from the renderer built
+/// to the image written, the part of the process that the threads share).
+fn timed_render(
+    binary: &Path,
+    scene: &Path,
+    out: &Path,
+    threads: &str,
+) -> Result<(f64, f64, f64), String> {
+    let mut command = crate::pgo::render_command(binary, scene, out, Some(threads));
+    command
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped());
+    let mut report = String::new();
+    let (wall, cpu) = timed_child(&mut command, |child| {
+        use std::io::Read;
+        if let Some(mut stderr) = child.stderr.take() {
+            let _ = stderr.read_to_string(&mut report);
+        }
+    })?;
+    let stage = report
+        .split(" in ")
+        .nth(1)
+        .and_then(|rest| {
+            let mut words = rest.split_whitespace();
+            let number: f64 = words.next()?.parse().ok()?;
+            match words.next()? {
+                "ms" => Some(number * 1e-3),
+                "s" => Some(number),
+                _ => None,
+            }
+        })
+        .ok_or_else(|| {
+            format!(
+                "{command:?}: no render time in its report `{}`",
+                report.trim()
+            )
+        })?;
+    Ok((wall, cpu, stage))
+}
+
+/// The wall-clock and CPU seconds (user and system) of one run of `command`, with `during`
+/// given the running child (to read its output).
+fn timed_child(
+    command: &mut Command,
+    during: impl FnOnce(&mut std::process::Child),
+) -> Result<(f64, f64), String> {
     use nix::sys::resource::{UsageWho, getrusage};
     let cpu = || -> Result<f64, String> {
         let usage = getrusage(UsageWho::RUSAGE_CHILDREN).map_err(|e| e.to_string())?;
@@ -270,9 +326,19 @@ fn timed_run(command: &mut Command) -> Result<(f64, f64), String> {
     // this run's.
     let cpu_before = cpu()?;
     let started = std::time::Instant::now();
-    qemu::checked(command)?;
+    let mut child = command.spawn().map_err(|e| format!("{command:?}: {e}"))?;
+    during(&mut child);
+    let status = child.wait().map_err(|e| format!("{command:?}: {e}"))?;
     let wall = started.elapsed().as_secs_f64();
+    if !status.success() {
+        return Err(format!("{command:?} failed ({status})"));
+    }
     Ok((wall, cpu()? - cpu_before))
+}
+
+/// The wall-clock and CPU seconds (user and system) of one run of `command`.
+fn timed_run(command: &mut Command) -> Result<(f64, f64), String> {
+    timed_child(command, |_| {})
 }
 
 /// The builds' one-thread CPU times against the issue's build's, run for run (both in the
@@ -281,7 +347,7 @@ fn timed_run(command: &mut Command) -> Result<(f64, f64), String> {
 fn issue_report(
     out: &mut String,
     builds: &[(&str, PathBuf)],
-    times: &[BTreeMap<&str, [Vec<f64>; 3]>],
+    times: &[BTreeMap<&str, Times>],
     issue_cpu: &BTreeMap<&str, Vec<f64>>,
 ) {
     let _ = writeln!(
@@ -318,7 +384,7 @@ fn issue_report(
         };
         let mut row = format!("| {name} | {course:.3} | {then:.3} | {:.4} |", median(old));
         for table in times {
-            let Some([cpu, _, _]) = table.get(name) else {
+            let Some(Times { one_cpu: cpu, .. }) = table.get(name) else {
                 row.push_str(" — | — | — |");
                 continue;
             };
@@ -427,16 +493,18 @@ fn process_tables(
          start, parsing, rendering and writing the PPM), with `--threads 1` and with all \
          {cores} cores (the default), every build and thread count alternating. One thread: \
          CPU seconds (user and system, the issue's measure) and wall-clock; all cores: \
-         wall-clock, and the speed-up over one thread's wall-clock. The course's tracer: \
-         the issue's CPU seconds for it on the same kind of machine (it is not in this \
-         repository)."
+         wall-clock, the speed-up over one thread's wall-clock, and the course's tracer's \
+         time over it. The course's tracer: the issue's CPU seconds for it on the same kind \
+         of machine (it is not in this repository). The render stage: the part of each run \
+         that the threads share, from the renderer built to the image written, as \
+         `microray` reports it (the builds run without `-q` for it); the process's start, \
+         reading the scene and planning come before it, on one core whatever the threads."
     );
     if let Some(e) = pgo_note {
         let _ = writeln!(out, "\n(No profile-guided build in this run: {e}.)");
     }
     let thread_counts = ["1".to_string(), cores.to_string()];
-    // Per build and scene: one thread's CPU and wall times, all cores' wall times.
-    let mut times = vec![BTreeMap::<&str, [Vec<f64>; 3]>::new(); builds.len()];
+    let mut times = vec![BTreeMap::<&str, Times>::new(); builds.len()];
     // The issue's build, one thread (it has no `--threads`: it had one thread only).
     let mut issue_cpu = BTreeMap::<&str, Vec<f64>>::new();
     for _ in 0..runs {
@@ -446,23 +514,21 @@ fn process_tables(
             };
             if let Ok(binary) = &issue {
                 let command = &mut crate::pgo::render_command(binary, path, &output, None);
+                command.arg("-q");
                 let (_, cpu) = timed_run(command)?;
                 issue_cpu.entry(name).or_default().push(cpu);
             }
             for (build, (_, binary)) in builds.iter().enumerate() {
                 for threads in &thread_counts {
-                    let (wall, cpu) = timed_run(&mut crate::pgo::render_command(
-                        binary,
-                        path,
-                        &output,
-                        Some(threads),
-                    ))?;
+                    let (wall, cpu, stage) = timed_render(binary, path, &output, threads)?;
                     let entry = times[build].entry(name).or_default();
                     if threads == "1" {
-                        entry[0].push(cpu);
-                        entry[1].push(wall);
+                        entry.one_cpu.push(cpu);
+                        entry.one_wall.push(wall);
+                        entry.one_stage.push(stage);
                     } else {
-                        entry[2].push(wall);
+                        entry.all_wall.push(wall);
+                        entry.all_stage.push(stage);
                     }
                 }
             }
@@ -473,26 +539,37 @@ fn process_tables(
             out,
             "\n{title}:\n\n\
              | scene | course's tracer (s) | one thread, CPU (s) | against the course's | \
-             one thread, wall (s) | all cores, wall (s) | speed-up |\n\
-             |---|---|---|---|---|---|---|"
+             one thread, wall (s) | all cores, wall (s) | speed-up | all cores against the \
+             course's | render stage, one thread (ms) | all cores (ms) | speed-up |\n\
+             |---|---|---|---|---|---|---|---|---|---|---|"
         );
         for name in PROCESS_SCENES {
-            let Some([one_cpu, one_wall, all_wall]) = table.get(name) else {
+            let Some(t) = table.get(name) else {
                 continue;
             };
-            let (cpu, one, all) = (median(one_cpu), median(one_wall), median(all_wall));
+            let (cpu, one, all) = (median(&t.one_cpu), median(&t.one_wall), median(&t.all_wall));
+            let (one_stage, all_stage) = (median(&t.one_stage), median(&t.all_stage));
             let course = COURSE_SECONDS
                 .iter()
                 .find(|(n, _)| *n == name)
                 .map(|&(_, s)| s);
-            let (course_cell, ratio_cell) = match course {
-                Some(c) => (format!("{c:.3}"), format!("{:.2}x", c / cpu.max(1e-9))),
-                None => ("—".to_string(), "—".to_string()),
+            let times_faster = |c: f64, t: f64| format!("{:.2}x", c / t.max(1e-9));
+            let (course_cell, ratio_cell, all_cell) = match course {
+                Some(c) => (
+                    format!("{c:.3}"),
+                    times_faster(c, cpu),
+                    times_faster(c, all),
+                ),
+                None => ("—".to_string(), "—".to_string(), "—".to_string()),
             };
             let _ = writeln!(
                 out,
-                "| {name} | {course_cell} | {cpu:.4} | {ratio_cell} | {one:.4} | {all:.4} | {:.2}x |",
-                one / all.max(1e-9)
+                "| {name} | {course_cell} | {cpu:.4} | {ratio_cell} | {one:.4} | {all:.4} | {} | \
+                 {all_cell} | {:.2} | {:.2} | {} |",
+                times_faster(one, all),
+                one_stage * 1e3,
+                all_stage * 1e3,
+                times_faster(one_stage, all_stage),
             );
         }
     }

@@ -124,11 +124,13 @@ fn render(
     out: &Path,
     envs: &[(&str, &std::ffi::OsStr)],
 ) -> Result<(), String> {
-    qemu::checked(render_command(binary, scene, out, Some("1")).envs(envs.iter().copied()))
+    let command = &mut render_command(binary, scene, out, Some("1"));
+    qemu::checked(command.arg("-q").envs(envs.iter().copied()))
 }
 
-/// `binary render SCENE -o OUT -q [--threads THREADS]`, the whole-process run the bench
-/// times too (`None` for a build without `--threads`, which had one thread only).
+/// `binary render SCENE -o OUT [--threads THREADS]`, the whole-process run the bench
+/// times too (`None` for a build without `--threads`, which had one thread only). Add `-q`
+/// for no report.
 pub(crate) fn render_command(
     binary: &Path,
     scene: &Path,
@@ -136,12 +138,7 @@ pub(crate) fn render_command(
     threads: Option<&str>,
 ) -> Command {
     let mut command = Command::new(binary);
-    command
-        .arg("render")
-        .arg(scene)
-        .arg("-o")
-        .arg(out)
-        .arg("-q");
+    command.arg("render").arg(scene).arg("-o").arg(out);
     if let Some(threads) = threads {
         command.args(["--threads", threads]);
     }

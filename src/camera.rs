@@ -45,7 +45,7 @@ impl<S: Scalar> RowRays<S> {
 
     /// The world `x` of the row's pixels, less the eye's, from the first to the last
     /// column (shifted, for anti-aliasing's samples), in `f64`.
-    #[cfg(feature = "batch")]
+    #[cfg(all(feature = "batch", feature = "plan"))]
     pub(crate) fn span_from_eye(&self, width: S) -> [f64; 2] {
         #[cfg(feature = "antialias")]
         let shift = self.shift_x.to_f64();

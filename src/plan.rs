@@ -329,6 +329,15 @@ impl Heights {
         }
     }
 
+    /// The set in both.
+    #[cfg(all(feature = "batch", feature = "plan"))]
+    pub(crate) fn intersection(self, other: Self) -> Self {
+        Self {
+            lo: self.lo.max(other.lo),
+            hi: self.hi.min(other.hi),
+        }
+    }
+
     /// The smallest set holding both.
     fn hull(self, other: Self) -> Self {
         Self {

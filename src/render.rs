@@ -365,7 +365,7 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
             }
         }
         // The planes the row's rays meet only behind another (`f64`, in batches).
-        #[cfg(feature = "batch")]
+        #[cfg(all(feature = "batch", feature = "plan"))]
         if self.shading == Shading::Color {
             let span = rays.span_from_eye(self.camera.world()[0]);
             crate::object::behind::hide_behind(self.shader.objects(), tests, &origin, span);

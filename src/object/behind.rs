@@ -82,23 +82,21 @@ impl RowPlane {
 
     /// The `a` where the plane is ahead of the eye, clearly.
     fn ahead(&self) -> Interval {
-        let s = self.sign();
+        self.clearly(self.sign())
+    }
+
+    /// The `a` where the plane is behind the eye, clearly (its test misses).
+    fn behind(&self) -> Interval {
+        self.clearly(-self.sign())
+    }
+
+    /// The `a` where `s (N . d)` is clearly positive.
+    fn clearly(&self, s: f64) -> Interval {
         let size = libm::fabs(self.slope) + libm::fabs(self.offset);
         where_positive(
             Interval::ALL,
             s * self.slope,
             s * self.offset - SHRINK * size,
-        )
-    }
-
-    /// The `a` where the plane is behind the eye, clearly (its test misses).
-    fn behind(&self) -> Interval {
-        let s = self.sign();
-        let size = libm::fabs(self.slope) + libm::fabs(self.offset);
-        where_positive(
-            Interval::ALL,
-            -s * self.slope,
-            -s * self.offset - SHRINK * size,
         )
     }
 }
@@ -111,11 +109,7 @@ fn hidden(front: &RowPlane, back: &RowPlane, eye_z: f64, dz: f64, z_limit: f64) 
     if !(df > 0.0 && db > 0.0) {
         return Interval { lo: 1.0, hi: 0.0 };
     }
-    let both = front.ahead();
-    let both = Interval {
-        lo: both.lo.max(back.ahead().lo),
-        hi: both.hi.min(back.ahead().hi),
-    };
+    let both = front.ahead().intersection(back.ahead());
     // Nearer: |Df| / pf < (1 - NEARER) |Db| / pb with pf = sf (N_f . d) > 0, pb likewise:
     // (1 - NEARER) |Db| pf - |Df| pb > 0.
     let k = (1.0 - NEARER) * db;
@@ -150,8 +144,7 @@ pub(crate) fn hide_behind<S: Scalar, const N: usize>(
         origin.dz.to_f64(),
         origin.z_limit.to_f64(),
     );
-    let (dy, dzf) = (origin.dy.to_f64(), dz);
-    let m = dy * dy + dzf * dzf;
+    let m = origin.dy_dz_squared();
     if !(m > 0.0) {
         return;
     }
@@ -216,7 +209,6 @@ pub(crate) fn hide_behind<S: Scalar, const N: usize>(
                 }
             }
         }
-        let unit_x = |a: f64| a / libm::sqrt(a * a + m);
         let Some(entry) = row.get_mut(b) else {
             continue;
         };
@@ -228,8 +220,8 @@ pub(crate) fn hide_behind<S: Scalar, const N: usize>(
         } else if below > outside[0].hi || above < outside[1].lo {
             // Tested for below <= a <= above (a part of the row, worth a test a ray), in the
             // direction's x (widened a hair).
-            let lo = unit_x(below) - 1e-12;
-            let hi = unit_x(above) + 1e-12;
+            let lo = super::unit_x(below, m) - 1e-12;
+            let hi = super::unit_x(above, m) + 1e-12;
             entry.test = RowTest::PlaneAcross {
                 distance,
                 lo: f32_below(lo),

@@ -103,6 +103,22 @@ pub struct RowOrigin<S> {
     pub z_limit: S,
 }
 
+#[cfg(all(feature = "plan", feature = "batch"))]
+impl<S: Scalar> RowOrigin<S> {
+    /// `dy^2 + dz^2` in `f64`: a ray's length squared is `a^2` more, `a` its `x`.
+    pub(crate) fn dy_dz_squared(&self) -> f64 {
+        let (dy, dz) = (self.dy.to_f64(), self.dz.to_f64());
+        dy * dy + dz * dz
+    }
+}
+
+/// The unit direction's `x` of a row's ray whose `x` is `a` (`m` its
+/// [`dy_dz_squared`](RowOrigin::dy_dz_squared)); it grows with `a`.
+#[cfg(all(feature = "plan", feature = "batch"))]
+pub(crate) fn unit_x(a: f64, m: f64) -> f64 {
+    a / crate::scalar::sqrt_f64(a * a + m)
+}
+
 /// What a kind works out once for the primary rays of a row, so that each pixel costs less
 /// (see [`ObjectVTable::row_test`]). Exact: each pixel's answer is the one `hits` gives.
 #[derive(Clone, Copy, Debug, PartialEq)]

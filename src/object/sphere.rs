@@ -212,7 +212,7 @@ pub fn sphere_row_test<S: Scalar>(
     let r = radius + 2e-3 * (distance + radius) + 1e-9 * (distance + 1.0);
     let q = distance * distance - r * r;
     let k = w.y * dy + w.z * dz;
-    let m = dy * dy + dz * dz;
+    let m = origin.dy_dz_squared();
     // A a^2 + B a + C >= 0.
     let (a2, b, c) = (w.x * w.x - q, 2.0 * w.x * k, k * k - q * m);
     let disc = b * b - 4.0 * a2 * c;
@@ -226,10 +226,9 @@ pub fn sphere_row_test<S: Scalar>(
     let root = crate::scalar::sqrt_f64(disc);
     // a2 < 0: the roots in increasing order.
     let (low, high) = ((-b + root) / (2.0 * a2), (-b - root) / (2.0 * a2));
-    let unit_x = |a: f64| a / crate::scalar::sqrt_f64(a * a + m);
     match (
-        S::from_f64_checked(unit_x(low)),
-        S::from_f64_checked(unit_x(high)),
+        S::from_f64_checked(super::unit_x(low, m)),
+        S::from_f64_checked(super::unit_x(high, m)),
     ) {
         (Some(lo), Some(hi)) => RowTest::Across { lo, hi },
         _ => RowTest::Hits,

@@ -50,6 +50,7 @@
 use crate::bvh::bounds;
 use crate::light::Light;
 use crate::object::fplane::Rect;
+use crate::object::plane::Plane;
 use crate::object::{Object, Shape};
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;
@@ -218,9 +219,7 @@ impl Clearing {
             let index = usize::from(number);
             let object = objects.get(index)?;
             // Infinite planes: their sides (a finite plane's follows).
-            if let Some(plane) =
-                plane_of(object).filter(|_| !matches!(object.shape(), Shape::FPlane(_)))
-            {
+            if let Some(plane) = object.infinite_plane().map(plane_f64) {
                 let side = Side::new(plane, light);
                 clearing.reach = clearing.reach.min(side.reach);
                 *clearing.planes.iter_mut().find(|p| p.is_none())? = Some((index, side));
@@ -453,8 +452,8 @@ fn side_can_clear<S: Scalar>(
             return corners(low, high).into_iter().any(on_light_side);
         }
         // An infinite plane parallel to this one lies on one side of it.
-        match (object.shape(), plane_of(object)) {
-            (Shape::Plane(_) | Shape::TiledPlane(_), Some((m, m_dot_point))) => {
+        match object.infinite_plane().map(plane_f64) {
+            Some((m, m_dot_point)) => {
                 let along = m.dot(normal);
                 if along.abs() == 1.0 {
                     on_light_side(normal * (m_dot_point * along))
@@ -462,7 +461,7 @@ fn side_can_clear<S: Scalar>(
                     true
                 }
             }
-            _ => true,
+            None => true,
         }
     })
 }
@@ -530,7 +529,12 @@ fn plane_of<S: Scalar>(object: &Object<S>) -> Option<(Vec3<f64>, f64)> {
         Shape::FPlane(rect) => &rect.plane,
         _ => object.infinite_plane()?,
     };
-    Some((plane.unit_normal.to_f64(), plane.n_dot_point.to_f64()))
+    Some(plane_f64(plane))
+}
+
+/// A plane's unit normal and `N.point` in `f64`.
+fn plane_f64<S: Scalar>(plane: &Plane<S>) -> (Vec3<f64>, f64) {
+    (plane.unit_normal.to_f64(), plane.n_dot_point.to_f64())
 }
 
 fn norm_1(v: Vec3<f64>) -> f64 {

@@ -267,6 +267,61 @@ struct Times {
     all_wall: Vec<f64>,
     one_stage: Vec<f64>,
     all_stage: Vec<f64>,
+    /// One thread's render stage with as many one-thread processes rendering the same
+    /// scene beside it as there are other cores: how much slower a core renders when every
+    /// core does (what the machine shares: caches, memory, and on a virtual machine the
+    /// host's cores), over the same stage alone, run for run.
+    crowded: Vec<f64>,
+}
+
+/// The render stages of `processes` one-thread runs of `binary` on `scene` started together
+/// (each writing its own file next to `out`): each core busy with one.
+fn crowded_stages(
+    binary: &Path,
+    scene: &Path,
+    out: &Path,
+    processes: usize,
+) -> Result<Vec<f64>, String> {
+    let children: Vec<_> = (0..processes)
+        .map(|k| {
+            let mut command = crate::pgo::render_command(
+                binary,
+                scene,
+                &out.with_extension(format!("{k}.ppm")),
+                Some("1"),
+            );
+            command
+                .stdout(std::process::Stdio::null())
+                .stderr(std::process::Stdio::piped());
+            command.spawn().map_err(|e| format!("{command:?}: {e}"))
+        })
+        .collect::<Result<_, _>>()?;
+    let mut stages = Vec::with_capacity(processes);
+    for (k, child) in children.into_iter().enumerate() {
+        let output = child.wait_with_output().map_err(|e| e.to_string())?;
+        let _ = std::fs::remove_file(out.with_extension(format!("{k}.ppm")));
+        if !output.status.success() {
+            return Err(format!("a crowded run of {} failed", scene.display()));
+        }
+        let report = String::from_utf8_lossy(&output.stderr);
+        stages.push(
+            stage_seconds(&report)
+                .ok_or_else(|| format!("no render time in the report `{}`", report.trim()))?,
+        );
+    }
+    Ok(stages)
+}
+
+/// The render stage's seconds in `microray`'s report (`... in 8.05 ms (...)`).
+fn stage_seconds(report: &str) -> Option<f64> {
+    let rest = report.split(" in ").nth(1)?;
+    let mut words = rest.split_whitespace();
+    let number: f64 = words.next()?.parse().ok()?;
+    match words.next()? {
+        "ms" => Some(number * 1e-3),
+        "s" => Some(number),
+        _ => None,
+    }
 }
 
 /// [`timed_run`] of `binary render SCENE -o OUT --threads THREADS` without `-q`, and the
@@ -289,24 +344,12 @@ fn timed_render(
             let _ = stderr.read_to_string(&mut report);
         }
     })?;
-    let stage = report
-        .split(" in ")
-        .nth(1)
-        .and_then(|rest| {
-            let mut words = rest.split_whitespace();
-            let number: f64 = words.next()?.parse().ok()?;
-            match words.next()? {
-                "ms" => Some(number * 1e-3),
-                "s" => Some(number),
-                _ => None,
-            }
-        })
-        .ok_or_else(|| {
-            format!(
-                "{command:?}: no render time in its report `{}`",
-                report.trim()
-            )
-        })?;
+    let stage = stage_seconds(&report).ok_or_else(|| {
+        format!(
+            "{command:?}: no render time in its report `{}`",
+            report.trim()
+        )
+    })?;
     Ok((wall, cpu, stage))
 }
 
@@ -339,6 +382,55 @@ fn timed_child(
 /// The wall-clock and CPU seconds (user and system) of one run of `command`.
 fn timed_run(command: &mut Command) -> Result<(f64, f64), String> {
     timed_child(command, |_| {})
+}
+
+/// What all cores can reach at best, from the release build's runs: the part of a
+/// one-thread run outside the render stage stays on one core, so even a render stage split
+/// perfectly leaves it whole; and with every core busy each renders slower than one alone.
+fn ceiling_report(out: &mut String, times: &BTreeMap<&str, Times>, cores: usize) {
+    let _ = writeln!(
+        out,
+        "\nWhat {cores} cores can reach, from the release build's runs above (medians). Outside \
+         the render stage: the one-thread run's wall-clock less its render stage (process \
+         start and exit, reading the scene, planning), which no thread count splits. A \
+         perfect split: that part plus the render stage over {cores}, against the whole \
+         one-thread run. Every core busy: each round, {cores} one-thread runs of the scene \
+         started together, their render stage over the lone run's of the same round (how \
+         much slower a core renders while the others render too: shared caches and memory, \
+         and on a virtual machine the host's cores). At that pace: a perfect split whose \
+         threads each render that much slower.\n\n\
+         | scene | one thread (ms) | outside the render stage (ms) | a perfect split | every \
+         core busy: a core's render stage over a lone one | a perfect split at that pace | \
+         measured |\n|---|---|---|---|---|---|---|"
+    );
+    let n = cores as f64;
+    for name in PROCESS_SCENES {
+        let Some(t) = times.get(name) else {
+            continue;
+        };
+        // Run for run (a one-thread run's own stage), then the medians.
+        let runs = t.one_wall.iter().zip(&t.one_stage);
+        let outside: Vec<f64> = runs
+            .clone()
+            .map(|(one, stage)| (one - stage).max(0.0))
+            .collect();
+        let crowded = median(&t.crowded);
+        let split = |pace: f64| -> Vec<f64> {
+            runs.clone()
+                .map(|(one, stage)| one / ((one - stage).max(0.0) + stage * pace / n).max(1e-9))
+                .collect()
+        };
+        let (one, all) = (median(&t.one_wall), median(&t.all_wall));
+        let _ = writeln!(
+            out,
+            "| {name} | {:.2} | {:.2} | {:.2}x | {crowded:.3} | {:.2}x | {:.2}x |",
+            one * 1e3,
+            median(&outside) * 1e3,
+            median(&split(1.0)),
+            median(&split(crowded)),
+            one / all.max(1e-9),
+        );
+    }
 }
 
 /// The builds' one-thread CPU times against the issue's build's, run for run (both in the
@@ -531,6 +623,16 @@ fn process_tables(
                         entry.all_stage.push(stage);
                     }
                 }
+                // How much slower one thread renders with every core busy, for the release
+                // build: a process on each core, set beside this round's lone run.
+                if build == 0 && cores > 1 {
+                    let crowded = crowded_stages(binary, path, &output, cores)?;
+                    let entry = times[build].entry(name).or_default();
+                    if let Some(&alone) = entry.one_stage.last() {
+                        let mean = crowded.iter().sum::<f64>() / crowded.len() as f64;
+                        entry.crowded.push(mean / alone.max(1e-9));
+                    }
+                }
             }
         }
     }
@@ -572,6 +674,9 @@ fn process_tables(
                 times_faster(one_stage, all_stage),
             );
         }
+    }
+    if let Some(release) = times.first().filter(|_| cores > 1) {
+        ceiling_report(out, release, cores);
     }
     match &issue {
         Ok(_) => issue_report(out, &builds, &times, &issue_cpu),

@@ -387,7 +387,7 @@ fn timed_run(command: &mut Command) -> Result<(f64, f64), String> {
 /// What all cores can reach at best, from the release build's runs: the part of a
 /// one-thread run outside the render stage stays on one core, so even a render stage split
 /// perfectly leaves it whole; and with every core busy each renders slower than one alone.
-fn ceiling_report(out: &mut String, times: &BTreeMap<&str, Times>, cores: usize) {
+fn ceiling_report(out: &mut String, times: &BTreeMap<&str, Times>, cores: usize, version: f64) {
     let _ = writeln!(
         out,
         "\nWhat {cores} cores can reach, from the release build's runs above (medians). Outside \
@@ -398,10 +398,15 @@ fn ceiling_report(out: &mut String, times: &BTreeMap<&str, Times>, cores: usize)
          started together, their render stage over the lone run's of the same round (how \
          much slower a core renders while the others render too: shared caches and memory, \
          and on a virtual machine the host's cores). At that pace: a perfect split whose \
-         threads each render that much slower.\n\n\
+         threads each render that much slower. With only the process's own cost outside \
+         the stage: the same, but with `microray --version`'s run ({:.2} ms: the process's \
+         start and exit, and clap's parsing) in place of what is outside the stage, as if \
+         reading the scene, planning and writing cost nothing.\n\n\
          | scene | one thread (ms) | outside the render stage (ms) | a perfect split | every \
          core busy: a core's render stage over a lone one | a perfect split at that pace | \
-         measured |\n|---|---|---|---|---|---|---|"
+         the same, with only the process's own cost outside | measured |\n\
+         |---|---|---|---|---|---|---|---|",
+        version * 1e3
     );
     let n = cores as f64;
     for name in PROCESS_SCENES {
@@ -420,14 +425,20 @@ fn ceiling_report(out: &mut String, times: &BTreeMap<&str, Times>, cores: usize)
                 .map(|(one, stage)| one / ((one - stage).max(0.0) + stage * pace / n).max(1e-9))
                 .collect()
         };
+        let bare: Vec<f64> = t
+            .one_stage
+            .iter()
+            .map(|stage| (version + stage) / (version + stage * crowded / n).max(1e-9))
+            .collect();
         let (one, all) = (median(&t.one_wall), median(&t.all_wall));
         let _ = writeln!(
             out,
-            "| {name} | {:.2} | {:.2} | {:.2}x | {crowded:.3} | {:.2}x | {:.2}x |",
+            "| {name} | {:.2} | {:.2} | {:.2}x | {crowded:.3} | {:.2}x | {:.2}x | {:.2}x |",
             one * 1e3,
             median(&outside) * 1e3,
             median(&split(1.0)),
             median(&split(crowded)),
+            median(&bare),
             one / all.max(1e-9),
         );
     }
@@ -599,7 +610,15 @@ fn process_tables(
     let mut times = vec![BTreeMap::<&str, Times>::new(); builds.len()];
     // The issue's build, one thread (it has no `--threads`: it had one thread only).
     let mut issue_cpu = BTreeMap::<&str, Vec<f64>>::new();
+    // The process with nothing to render: start, clap's parsing, exit.
+    let mut version_wall = Vec::with_capacity(runs);
     for _ in 0..runs {
+        let (wall, _) = timed_run(
+            Command::new(&builds[0].1)
+                .arg("--version")
+                .stdout(std::process::Stdio::null()),
+        )?;
+        version_wall.push(wall);
         for name in PROCESS_SCENES {
             let Some(path) = scenes.get(name) else {
                 continue;
@@ -676,7 +695,7 @@ fn process_tables(
         }
     }
     if let Some(release) = times.first().filter(|_| cores > 1) {
-        ceiling_report(out, release, cores);
+        ceiling_report(out, release, cores, median(&version_wall));
     }
     match &issue {
         Ok(_) => issue_report(out, &builds, &times, &issue_cpu),

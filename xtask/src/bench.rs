@@ -413,22 +413,28 @@ fn ceiling_report(out: &mut String, times: &BTreeMap<&str, Times>, cores: usize,
         let Some(t) = times.get(name) else {
             continue;
         };
-        // Run for run (a one-thread run's own stage), then the medians.
-        let runs = t.one_wall.iter().zip(&t.one_stage);
-        let outside: Vec<f64> = runs
-            .clone()
-            .map(|(one, stage)| (one - stage).max(0.0))
+        // Run for run (a one-thread run's own stage), then the medians. `whole` over the
+        // part outside plus the stage shared by `n` cores, each at `pace`.
+        let best = |whole: f64, outside: f64, stage: f64, pace: f64| {
+            whole / (outside + stage * pace / n).max(1e-9)
+        };
+        let runs: Vec<(f64, f64, f64)> = t
+            .one_wall
+            .iter()
+            .zip(&t.one_stage)
+            .map(|(&one, &stage)| (one, (one - stage).max(0.0), stage))
             .collect();
+        let outside: Vec<f64> = runs.iter().map(|&(_, outside, _)| outside).collect();
         let crowded = median(&t.crowded);
         let split = |pace: f64| -> Vec<f64> {
-            runs.clone()
-                .map(|(one, stage)| one / ((one - stage).max(0.0) + stage * pace / n).max(1e-9))
+            runs.iter()
+                .map(|&(one, outside, stage)| best(one, outside, stage, pace))
                 .collect()
         };
         let bare: Vec<f64> = t
             .one_stage
             .iter()
-            .map(|stage| (version + stage) / (version + stage * crowded / n).max(1e-9))
+            .map(|&stage| best(version + stage, version, stage, crowded))
             .collect();
         let (one, all) = (median(&t.one_wall), median(&t.all_wall));
         let _ = writeln!(
@@ -613,12 +619,15 @@ fn process_tables(
     // The process with nothing to render: start, clap's parsing, exit.
     let mut version_wall = Vec::with_capacity(runs);
     for _ in 0..runs {
-        let (wall, _) = timed_run(
-            Command::new(&builds[0].1)
-                .arg("--version")
-                .stdout(std::process::Stdio::null()),
-        )?;
-        version_wall.push(wall);
+        // Only the ceiling of all cores uses it.
+        if cores > 1 {
+            let (wall, _) = timed_run(
+                Command::new(&builds[0].1)
+                    .arg("--version")
+                    .stdout(std::process::Stdio::null()),
+            )?;
+            version_wall.push(wall);
+        }
         for name in PROCESS_SCENES {
             let Some(path) = scenes.get(name) else {
                 continue;

@@ -1,3 +1,6 @@
+//! Sets `cfg(microray_conformance)` when `MICRORAY_CONFORMANCE` names the course's scenes
+//! (the tests that need them are ignored otherwise, with the reason).
+//!
 //! Links the `microray` binary as a static PIE on Linux with glibc, when the static
 //! archives are installed (they come with the C compiler's `libc6-dev`).
 //!
@@ -27,6 +30,13 @@ const GLIBC: [&str; 6] = ["c", "m", "pthread", "dl", "rt", "util"];
 fn main() {
     println!("cargo::rerun-if-changed=build.rs");
     println!("cargo::rerun-if-env-changed=MICRORAY_DYNAMIC");
+    // The tests that need the course's scenes are ignored, with the reason shown by
+    // `cargo test`, when the variable that points at them is unset.
+    println!("cargo::rerun-if-env-changed=MICRORAY_CONFORMANCE");
+    println!("cargo::rustc-check-cfg=cfg(microray_conformance)");
+    if env::var_os("MICRORAY_CONFORMANCE").is_some() {
+        println!("cargo::rustc-cfg=microray_conformance");
+    }
     if let Some(dir) = static_libs() {
         println!("cargo::rustc-link-arg-bins=-L{}", dir.display());
         println!("cargo::rustc-link-arg-bins=-static-pie");

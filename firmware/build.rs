@@ -8,6 +8,7 @@
 #[path = "src/basic_scene.rs"]
 mod basic_scene;
 
+use microray::capacity::Capacities;
 use std::env;
 use std::fmt::Write as _;
 use std::fs;
@@ -99,12 +100,12 @@ fn main() {
     // has 4 objects, 3 materials and 2 lights; `static` 4, 4, 2 and a texture), so that its
     // RAM is what a firmware author sizing a scene would give it.
     let in_source = [
-        (run_basic, Capacity::new(4, 3, 2, 0)),
-        (run_static, Capacity::new(4, 4, 2, 1)),
+        (run_basic, in_source(4, 3, 2, 0)),
+        (run_static, in_source(4, 4, 2, 1)),
     ];
-    let mut capacity = Capacity::new(0, 0, 0, 0);
+    let mut capacity = Capacities::ZERO;
     for (_, needs) in in_source.iter().filter(|(runs, _)| *runs) {
-        capacity = capacity.max(needs);
+        capacity = capacity.max(*needs);
     }
 
     let mut table = String::from("pub const SCENES: &[SceneFile] = &[\n");
@@ -125,14 +126,15 @@ fn main() {
             writeln!(skipped, "    ({name:?}, {why:?}),").unwrap();
             continue;
         }
-        let needs = Capacity::of(&text);
+        // The library's count, as a firmware author's `const` would make it.
+        let needs = Capacities::of_text(text.as_bytes());
         let count = needs.objects;
         if count > objects {
             let why = format!("its {count} objects do not fit this machine's RAM ({objects})");
             writeln!(skipped, "    ({name:?}, {why:?}),").unwrap();
             continue;
         }
-        capacity = capacity.max(&needs);
+        capacity = capacity.max(needs);
         println!("cargo:rerun-if-changed={}", path.display());
         write!(
             table,
@@ -152,11 +154,12 @@ fn main() {
     }
     table.push_str("];\n");
     skipped.push_str("];\n");
-    let Capacity {
+    let Capacities {
         objects,
         materials,
         lights,
         textures,
+        ..
     } = capacity;
     let generated = format!(
         "pub const WIDTH: u16 = {width};\npub const HEIGHT: u16 = {height};\n\
@@ -198,71 +201,15 @@ fn collect(dir: &Path, files: &mut Vec<PathBuf>) {
     }
 }
 
-/// A scene's capacities: how many of each entity it holds.
-#[derive(Clone, Copy)]
-struct Capacity {
-    objects: usize,
-    materials: usize,
-    lights: usize,
-    textures: usize,
-}
-
-impl Capacity {
-    const fn new(objects: usize, materials: usize, lights: usize, textures: usize) -> Self {
-        Self {
-            objects,
-            materials,
-            lights,
-            textures,
-        }
+/// The capacities of a scene in source (its width is the firmware's).
+const fn in_source(objects: usize, materials: usize, lights: usize, textures: usize) -> Capacities {
+    Capacities {
+        objects,
+        materials,
+        lights,
+        textures,
+        max_width: 0,
     }
-
-    /// What a scene file defines: its blocks opened by each keyword.
-    fn of(text: &str) -> Self {
-        Self {
-            objects: object_count(text),
-            materials: block_count(text, &["material"]),
-            lights: block_count(text, &["light", "spotlight", "projector"]),
-            textures: block_count(text, &["texture"]),
-        }
-    }
-
-    fn max(&self, other: &Self) -> Self {
-        Self {
-            objects: self.objects.max(other.objects),
-            materials: self.materials.max(other.materials),
-            lights: self.lights.max(other.lights),
-            textures: self.textures.max(other.textures),
-        }
-    }
-}
-
-/// How many blocks a scene opens with one of `keywords` (`keyword NAME {`).
-fn block_count(text: &str, keywords: &[&str]) -> usize {
-    let words: Vec<&str> = text
-        .lines()
-        .map(|l| l.split('#').next().unwrap_or(""))
-        .flat_map(str::split_whitespace)
-        .collect();
-    words
-        .windows(3)
-        .filter(|w| keywords.contains(&w[0]) && w[2].starts_with('{'))
-        .count()
-}
-
-/// How many objects a scene defines: its blocks opened by an object keyword.
-fn object_count(text: &str) -> usize {
-    block_count(
-        text,
-        &[
-            "plane",
-            "sphere",
-            "fplane",
-            "tiled_plane",
-            "texplane",
-            "revsurf",
-        ],
-    )
 }
 
 /// The `filename` values of a scene and the files they name, and the `texname` values that

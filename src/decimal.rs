@@ -41,8 +41,20 @@ pub enum NumberError {
     TooLarge,
 }
 
+impl core::fmt::Display for NumberError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            NumberError::NotANumber => "not a decimal number",
+            NumberError::NotFinite => "not a finite number (`nan` and `inf` are not accepted)",
+            NumberError::TooLarge => "too large (beyond about 1.8e308)",
+        })
+    }
+}
+
+impl core::error::Error for NumberError {}
+
 /// The nom parser for the decimal grammar (on nom's digit parsers).
-pub fn decimal(input: &[u8]) -> IResult<&[u8], Decimal<'_>> {
+pub(crate) fn decimal(input: &[u8]) -> IResult<&[u8], Decimal<'_>> {
     let (rest, (sign, integer, fraction)) =
         (opt(one_of("+-")), digit0, opt(preceded(char('.'), digit0))).parse(input)?;
     let fraction = fraction.unwrap_or(&[]);

@@ -1,7 +1,7 @@
 //! Rgb565 output: the tracer's 8-bit channels to a panel's 5-6-5, truncated or with an
 //! ordered (Bayer 4x4) dither that needs no memory at all.
 //!
-//! [`Rgb565Dither`] wraps an `Rgb565` [`DrawTarget`] and is itself an `Rgb888` one: the
+//! [`Rgb565Dither`] wraps an `Rgb565` [`DrawTarget`](https://docs.rs/embedded-graphics/0.8/embedded_graphics/draw_target/trait.DrawTarget.html) and is itself an `Rgb888` one: the
 //! renderer draws into it as into any target, and each pixel is dithered by its position as
 //! it passes through (rows, blocks of the progressive order and single pixels alike). The
 //! dither is integer arithmetic only, so host and firmware frames agree byte for byte.

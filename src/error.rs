@@ -85,8 +85,7 @@ impl fmt::Display for Error {
     }
 }
 
-#[cfg(feature = "std")]
-impl std::error::Error for Error {}
+impl core::error::Error for Error {}
 
 /// The kinds of block in a scene file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -410,6 +409,8 @@ impl fmt::Display for TextureError {
         })
     }
 }
+
+impl core::error::Error for TextureError {}
 
 /// A short copy of the text an error is about (the found token, an undefined name).
 ///
@@ -976,6 +977,8 @@ impl fmt::Display for CompiledError {
         }
     }
 }
+
+impl core::error::Error for CompiledError {}
 
 #[cfg(test)]
 mod tests {

@@ -341,7 +341,7 @@ impl<E: core::fmt::Display> core::fmt::Display for StreamError<E> {
     }
 }
 
-impl<E: core::fmt::Debug + core::fmt::Display> std::error::Error for StreamError<E> {}
+impl<E: core::fmt::Debug + core::fmt::Display> core::error::Error for StreamError<E> {}
 
 /// Renders the image on `threads` threads into `image` (a framebuffer's pixels) or, with
 /// `None`, into each thread's own buffer, handed to `write` when full or no longer followed

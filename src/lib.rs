@@ -4,7 +4,7 @@
 //! university course ray tracer, keeps the C design's objects with `hits`/`printer` function
 //! pointers (in safe Rust: a `'static` table of `fn` pointers per object kind), and computes
 //! in any [`Scalar`] number type from one source. The library allocates nothing: every list is
-//! a [`heapless::Vec`] whose capacity is part of the [`Scene`] type, and running out of room is
+//! a [`heapless::Vec`](https://docs.rs/heapless/0.9/heapless/type.Vec.html) whose capacity is part of the [`Scene`] type, and running out of room is
 //! an [`Error`], never a panic.
 //!
 //! ```
@@ -83,6 +83,7 @@
 
 pub mod bvh;
 pub mod camera;
+pub mod capacity;
 pub mod compiled;
 #[cfg(any(feature = "parser", feature = "print"))]
 pub mod decimal;
@@ -110,6 +111,12 @@ pub mod vec3;
 
 #[cfg(feature = "std")]
 pub mod host;
+
+// The crates whose types the public API takes and returns, re-exported so that a program
+// names the versions microray was built with (`microray::embedded_graphics::pixelcolor::Rgb565`).
+pub use embedded_graphics;
+pub use fixed;
+pub use heapless;
 
 pub use camera::{Camera, CameraDef};
 pub use error::{Error, ErrorKind, Position};

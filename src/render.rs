@@ -1,4 +1,4 @@
-//! Rendering into any embedded-graphics [`DrawTarget`], one row at a time.
+//! Rendering into any embedded-graphics [`DrawTarget`](https://docs.rs/embedded-graphics/0.8/embedded_graphics/draw_target/trait.DrawTarget.html), one row at a time.
 //!
 //! Each row is computed into a row buffer (the caller's, or one of the scene's `MAX_WIDTH`
 //! on the stack) and sent with one `fill_contiguous` call for a 1-pixel-high rectangle, top
@@ -65,8 +65,7 @@ impl<E: core::fmt::Debug> core::fmt::Display for RenderError<E> {
     }
 }
 
-#[cfg(feature = "std")]
-impl<E: core::fmt::Debug> std::error::Error for RenderError<E> {}
+impl<E: core::fmt::Debug> core::error::Error for RenderError<E> {}
 
 /// Whether rendering ran to the end.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

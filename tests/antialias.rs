@@ -231,12 +231,14 @@ fn quality_against_64_samples() {
 }
 
 #[test]
+#[cfg_attr(
+    not(microray_conformance),
+    ignore = "needs the course's scenes: set MICRORAY_CONFORMANCE to their folder"
+)]
 fn aademo_comes_closer_to_the_course_image() {
     // The course's aademo jittered its samples, so no render matches it; anti-aliasing
     // must still come closer to it than one ray a pixel.
-    let Some(dir) = common::conformance_dir() else {
-        return;
-    };
+    let dir = common::required_conformance_dir();
     let path = dir.join("aa/aademo.txt");
     let reference =
         microray::host::read_ppm(&std::fs::read(dir.join("aa/aademo.ppm")).unwrap()).unwrap();
@@ -258,12 +260,14 @@ fn aademo_comes_closer_to_the_course_image() {
 }
 
 #[test]
+#[cfg_attr(
+    not(microray_conformance),
+    ignore = "needs the course's scenes: set MICRORAY_CONFORMANCE to their folder"
+)]
 fn adaptive_supersamples_only_edges() {
     // Every pixel the adaptive render changes is on an edge of the plain render (it differs
     // from a neighbour there); on the course's aademo, a few percent of the pixels.
-    let Some(dir) = common::conformance_dir() else {
-        return;
-    };
+    let dir = common::required_conformance_dir();
     let scene = load::<f64>(&dir.join("aa/aademo.txt"), None).unwrap();
     let renderer: HostRenderer<'_, f64> = Renderer::new(&scene);
     let plain = common::image(&renderer);

@@ -31,10 +31,12 @@ fn check_accepts_project_scenes() {
 }
 
 #[test]
+#[cfg_attr(
+    not(microray_conformance),
+    ignore = "needs the course's scenes: set MICRORAY_CONFORMANCE to their folder"
+)]
 fn check_accepts_every_conformance_scene() {
-    let Some(dir) = common::conformance_dir() else {
-        return;
-    };
+    let dir = common::required_conformance_dir();
     for path in common::scene_files(&dir) {
         let out = microray(&["check", path.to_str().unwrap()]);
         assert!(

@@ -40,10 +40,12 @@ fn render_f64(path: &Path) -> Framebuffer {
 }
 
 #[test]
+#[cfg_attr(
+    not(microray_conformance),
+    ignore = "needs the course's scenes: set MICRORAY_CONFORMANCE to their folder"
+)]
 fn reference_images_are_reproduced() {
-    let Some(dir) = common::conformance_dir() else {
-        return;
-    };
+    let dir = common::required_conformance_dir();
     let mut compared = 0;
     let mut failures = Vec::new();
     for path in common::scene_files(&dir) {
@@ -112,11 +114,12 @@ const LATER_SCENES: [(&str, f64, f64, f64); 5] = [
 ];
 
 #[test]
+#[cfg_attr(
+    not(microray_conformance),
+    ignore = "needs the course's scenes: set MICRORAY_CONFORMANCE to their folder"
+)]
 fn later_course_scenes_are_reproduced() {
-    let Some(dir) = common::course_extensions_dir() else {
-        eprintln!("skipped: no course-extensions folder next to the conformance folder");
-        return;
-    };
+    let dir = common::required_course_extensions_dir();
     let mut failures = Vec::new();
     for (scene, identical, within_2, psnr) in LATER_SCENES {
         let path = dir.join(format!("{scene}.txt"));

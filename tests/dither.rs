@@ -46,10 +46,12 @@ fn expanded(c: Rgb565) -> [f64; 3] {
 }
 
 #[test]
+#[cfg_attr(
+    not(microray_conformance),
+    ignore = "needs the course's scenes: set MICRORAY_CONFORMANCE to their folder"
+)]
 fn dithering_beats_truncation_on_every_course_scene() {
-    let Some(dir) = common::conformance_dir() else {
-        return;
-    };
+    let dir = common::required_conformance_dir();
     let mut table = String::from("| scene | truncated | dithered |\n|---|---|---|\n");
     let mut worse = Vec::new();
     for path in common::scene_files(&dir) {

@@ -40,10 +40,12 @@ fn round_trip<S: Scalar>(path: &Path) {
 }
 
 #[test]
+#[cfg_attr(
+    not(microray_conformance),
+    ignore = "needs the course's scenes: set MICRORAY_CONFORMANCE to their folder"
+)]
 fn conformance_scenes_parse_and_round_trip() {
-    let Some(dir) = common::conformance_dir() else {
-        return;
-    };
+    let dir = common::required_conformance_dir();
     let files = common::scene_files(&dir);
     assert!(
         files.len() >= 17,
@@ -61,11 +63,13 @@ fn conformance_scenes_parse_and_round_trip() {
 }
 
 #[test]
+#[cfg_attr(
+    not(microray_conformance),
+    ignore = "needs the course's scenes: set MICRORAY_CONFORMANCE to their folder"
+)]
 fn later_course_scenes_parse_and_round_trip() {
     // Projectors, surfaces of revolution, `specular r g b`, `texname FILE`.
-    let Some(dir) = common::course_extensions_dir() else {
-        return;
-    };
+    let dir = common::required_course_extensions_dir();
     let files = common::scene_files(&dir);
     assert_eq!(files.len(), 5, "expected the course's 5 later scenes");
     for path in &files {

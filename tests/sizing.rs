@@ -13,6 +13,8 @@ use microray::{Scalar, Scene};
 use std::convert::Infallible;
 use std::ops::ControlFlow;
 
+mod common;
+
 /// A panel that keeps what it is sent, in its own colour type.
 struct Panel<C> {
     size: Size,
@@ -129,4 +131,52 @@ fn one_object_too_many_is_a_capacity_error() {
             .render_area(&mut panel, area, &mut row, |_| ControlFlow::Continue(()))
             .is_err()
     );
+}
+
+/// The counts `Capacities::of_text` makes without the parser are what the parser loads, for
+/// every scene of the project's and the course's.
+#[test]
+fn capacities_counted_from_the_text_are_what_the_parser_loads() {
+    use microray::capacity::Capacities;
+    use microray::host::{HostScene, texture_files};
+    let scenes = common::all_scenes_with("stress");
+    assert!(scenes.len() >= 8, "{scenes:?}");
+    for path in scenes {
+        let text = std::fs::read(&path).unwrap();
+        let mut scene = Box::new(HostScene::<f64>::empty());
+        parse_scene_into(&text, texture_files(path.parent().unwrap()), &mut scene)
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let loaded = Capacities {
+            objects: scene.objects().len(),
+            materials: scene.materials().len(),
+            lights: scene.lights().len(),
+            textures: scene.textures().len(),
+            max_width: scene.camera().width() as usize,
+        };
+        assert_eq!(Capacities::of_text(&text), loaded, "{}", path.display());
+    }
+}
+
+/// A scene type sized in a `const` from the file it holds loads the file, and renders as a
+/// scene with room to spare.
+#[test]
+fn a_scene_type_sized_from_its_text_in_a_const() {
+    use microray::capacity::Capacities;
+    const NEEDS: Capacities = Capacities::of_text(MINIMAL);
+    type Minimal = Scene<
+        'static,
+        I16F16,
+        { NEEDS.objects },
+        { NEEDS.materials },
+        { NEEDS.lights },
+        { NEEDS.textures },
+        { NEEDS.max_width },
+    >;
+    let mut exact = Minimal::empty();
+    parse_scene_into(MINIMAL, no_textures, &mut exact).unwrap();
+    let roomy: Scene<'_, I16F16> = microray::parse::parse_scene(MINIMAL, no_textures).unwrap();
+    assert_eq!(render(&exact), render(&roomy));
+    // One object fewer does not fit.
+    let mut small: Scene<'_, I16F16, { NEEDS.objects - 1 }, 2, 1, 0, 320> = Scene::empty();
+    assert!(parse_scene_into(MINIMAL, no_textures, &mut small).is_err());
 }

@@ -24,6 +24,19 @@ pub fn conformance_dir() -> Option<PathBuf> {
     Some(dir)
 }
 
+/// The course's conformance folder, for the tests that are ignored without it (see
+/// `build.rs`): a failure when it is missing.
+pub fn required_conformance_dir() -> PathBuf {
+    conformance_dir().expect("MICRORAY_CONFORMANCE was set when the tests were built, not now")
+}
+
+/// The course's later scenes, for the tests that are ignored without the course's scenes.
+pub fn required_course_extensions_dir() -> PathBuf {
+    course_extensions_dir().expect(
+        "no course-extensions folder next to MICRORAY_CONFORMANCE's (or MICRORAY_COURSE_EXTENSIONS)",
+    )
+}
+
 /// The course's later scenes: `MICRORAY_COURSE_EXTENSIONS`, else `course-extensions` next to
 /// the conformance folder, if it is there.
 pub fn course_extensions_dir() -> Option<PathBuf> {

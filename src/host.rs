@@ -279,6 +279,7 @@ pub fn render_parallel<S: crate::Scalar, const OBJECTS: usize>(
         on_row,
         Some(&mut image.rgb),
         never_written,
+        || {},
     ) {
         Ok(()) => Ok(image),
         Err(StreamError::Render(e)) => Err(e),
@@ -320,7 +321,110 @@ pub fn render_streamed<S: crate::Scalar, const OBJECTS: usize, E: Send>(
     on_row: impl Fn(crate::render::RowDone) + Sync,
     write: impl Fn(usize, &mut [u8]) -> Result<(), E> + Sync,
 ) -> Result<(), StreamError<E>> {
-    render_bands(renderer, threads, aa, on_row, None, write)
+    render_bands(renderer, threads, aa, on_row, None, write, || {})
+}
+
+/// The image of [`render_streamed`], handed to `write` in order, top row first, one call
+/// at a time: for an encoder that takes rows in order (PNG, a pipe). A thread whose rows
+/// come before others' waits until theirs are written, so what is held at any time is a
+/// few bands a thread (64 KB with one thread), however tall the image.
+///
+/// ```
+/// use microray::host::{render_in_order, HostRenderer, HostScene};
+/// use microray::parse::{no_textures, parse_scene_into};
+///
+/// let mut scene = HostScene::<f64>::empty();
+/// parse_scene_into(b"camera c { pixeldim 8 60 worlddim 8 6 viewpoint 4 3 3 }", no_textures, &mut scene)?;
+/// let mut rows = Vec::new();
+/// render_in_order(&HostRenderer::new(&scene), 2, None, |_| {}, |top, pixels| {
+///     rows.push((top, pixels.len() / (8 * 3)));
+///     Ok::<(), std::io::Error>(())
+/// })?;
+/// // Every row once, in order.
+/// let mut next = 0;
+/// for (top, count) in rows {
+///     assert_eq!(top, next);
+///     next += count;
+/// }
+/// assert_eq!(next, 60);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn render_in_order<S: crate::Scalar, const OBJECTS: usize, E: Send>(
+    renderer: &crate::render::Renderer<'_, S, OBJECTS>,
+    threads: usize,
+    aa: Option<crate::render::Antialias>,
+    on_row: impl Fn(crate::render::RowDone) + Sync,
+    write: impl FnMut(usize, &mut [u8]) -> Result<(), E> + Send,
+) -> Result<(), StreamError<E>> {
+    let turns = Turns {
+        state: std::sync::Mutex::new(Turn {
+            next: 0,
+            failed: false,
+            write,
+        }),
+        changed: std::sync::Condvar::new(),
+    };
+    let row_bytes = renderer.size().width as usize * 3;
+    render_bands(
+        renderer,
+        threads,
+        aa,
+        on_row,
+        None,
+        |top, pixels: &mut [u8]| turns.write(top, pixels, row_bytes),
+        || turns.fail(),
+    )
+}
+
+/// Whose rows [`render_in_order`] writes next.
+struct Turns<W> {
+    state: std::sync::Mutex<Turn<W>>,
+    changed: std::sync::Condvar,
+}
+
+struct Turn<W> {
+    /// The first row not yet written.
+    next: usize,
+    /// A thread failed: the rows after its own will never come.
+    failed: bool,
+    write: W,
+}
+
+impl<W> Turns<W> {
+    /// Writes rows from `top` on once every row before them is written. After a failure
+    /// elsewhere, writes nothing (that thread's error is the one reported).
+    fn write<E>(&self, top: usize, pixels: &mut [u8], row_bytes: usize) -> Result<(), E>
+    where
+        W: FnMut(usize, &mut [u8]) -> Result<(), E>,
+    {
+        let Ok(mut turn) = self.state.lock() else {
+            return Ok(());
+        };
+        while turn.next != top && !turn.failed {
+            turn = match self.changed.wait(turn) {
+                Ok(turn) => turn,
+                Err(_) => return Ok(()),
+            };
+        }
+        if turn.failed {
+            return Ok(());
+        }
+        let written = (turn.write)(top, pixels);
+        match written {
+            Ok(()) => turn.next += pixels.len() / row_bytes.max(1),
+            Err(_) => turn.failed = true,
+        }
+        self.changed.notify_all();
+        written
+    }
+
+    /// A thread stopped short: no thread waits for its rows.
+    fn fail(&self) {
+        if let Ok(mut turn) = self.state.lock() {
+            turn.failed = true;
+        }
+        self.changed.notify_all();
+    }
 }
 
 /// Why [`render_streamed`] stopped short.
@@ -345,7 +449,8 @@ impl<E: core::fmt::Debug + core::fmt::Display> core::error::Error for StreamErro
 
 /// Renders the image on `threads` threads into `image` (a framebuffer's pixels) or, with
 /// `None`, into each thread's own buffer, handed to `write` when full or no longer followed
-/// by the band taken next.
+/// by the band taken next. A thread that fails calls `on_fail` (before its error is
+/// returned), so that no other waits for its rows.
 fn render_bands<S: crate::Scalar, const OBJECTS: usize, E: Send>(
     renderer: &crate::render::Renderer<'_, S, OBJECTS>,
     threads: usize,
@@ -353,6 +458,7 @@ fn render_bands<S: crate::Scalar, const OBJECTS: usize, E: Send>(
     on_row: impl Fn(crate::render::RowDone) + Sync,
     image: Option<&mut [u8]>,
     write: impl Fn(usize, &mut [u8]) -> Result<(), E> + Sync,
+    on_fail: impl Fn() + Sync,
 ) -> Result<(), StreamError<E>> {
     use crate::render::{AaPixel, Antialias};
     use core::ops::ControlFlow;
@@ -381,7 +487,7 @@ fn render_bands<S: crate::Scalar, const OBJECTS: usize, E: Send>(
         1 => (STREAM_BYTES / row_bytes).max(BAND_ROWS),
         _ => BAND_ROWS,
     };
-    let work = |caller: bool| -> Result<(), StreamError<E>> {
+    let work_until_done = |caller: bool| -> Result<(), StreamError<E>> {
         let mut row = vec![RgbBytes::BLACK; width];
         let mut aa_buffer = match aa {
             Some(_) => vec![AaPixel::NEW; Antialias::buffer_len(size.width as u16)],
@@ -437,6 +543,13 @@ fn render_bands<S: crate::Scalar, const OBJECTS: usize, E: Send>(
             write(own_top, held).map_err(StreamError::Write)?;
         }
         Ok(())
+    };
+    let work = |caller: bool| {
+        let done = work_until_done(caller);
+        if done.is_err() {
+            on_fail();
+        }
+        done
     };
     if threads == 1 {
         return work(true);

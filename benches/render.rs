@@ -9,8 +9,6 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 
-#[path = "../firmware/src/aa_modes.rs"]
-mod aa_modes;
 use microray::Scalar;
 use microray::host::{Framebuffer, HostRenderer, HostScene, texture_files};
 use microray::parse::parse_scene;
@@ -99,9 +97,8 @@ fn bench_antialiasing<S: Scalar>(
     let renderer: HostRenderer<'_, S> = Renderer::new(scene);
     let all = embedded_graphics::primitives::Rectangle::new(Default::default(), renderer.size());
     let mut buffer = vec![AaPixel::NEW; Antialias::buffer_len(320)];
-    // The firmware's modes (`cargo xtask qemu --antialias`), named by their suffix.
-    for (suffix, aa) in aa_modes::MODES {
-        let mode = suffix.trim_start_matches("+aa").trim_start_matches('+');
+    // The firmware's modes (`cargo xtask qemu --antialias`).
+    for (mode, aa) in Antialias::MEASURED {
         c.bench_function(&format!("{name}/aa/{mode}"), |b| {
             b.iter(|| {
                 renderer

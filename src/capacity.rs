@@ -1,7 +1,7 @@
 //! How much room a scene needs: its capacities counted from the scene's text, at compile
 //! time if need be, and named sizes for scenes written by hand.
 //!
-//! A [`Scene`](crate::Scene)'s five capacities are const generics, and every slot costs RAM
+//! A [`Scene`]'s five capacities are const generics, and every slot costs RAM
 //! whether it is used or not. For a scene file that firmware embeds, [`Capacities::of_text`]
 //! counts them in a `const`, so the type fits the file exactly and follows it when it
 //! changes:
@@ -40,7 +40,7 @@
 //! (and [`Capacities::max`] over several scenes) and write the type out.
 //!
 //! For scenes built in source, or read at run time, the aliases give common sizes a name:
-//! [`TinyScene`], [`SmallScene`], [`LargeScene`] (and the default [`Scene`](crate::Scene)).
+//! [`TinyScene`], [`SmallScene`], [`LargeScene`] (and the default [`Scene`]).
 
 use crate::scalar::Scalar;
 use crate::scene::Scene;

@@ -50,11 +50,59 @@
 //! column that asks for it).
 //!
 //! ## On a microcontroller
-//! A scene's capacities are part of its type and cost RAM slot by slot: [`Scene`]'s docs
-//! ("Sizing a scene") give each slot's bytes on a 32-bit Cortex-M and size one for a known
-//! scene file; render with [`render::Renderer::render_area`] into the panel with a row buffer
-//! in the panel's own colour type. The `firmware/` directory renders every scene this way in
-//! QEMU, and `docs/firmware.md` measures flash and RAM by part.
+//! In the firmware's `Cargo.toml`, without the default features (which bring `std`), and
+//! with those the scene needs:
+//!
+//! ```toml
+//! microray = { version = "0.1", default-features = false, features = ["parser", "plan"] }
+//! ```
+//!
+//! A scene's capacities are part of its type and cost RAM slot by slot:
+//! [`capacity::Capacities::of_text`] counts them from the scene's text in a `const`, and
+//! [`Scene`]'s docs ("Sizing a scene") give each slot's bytes on a 32-bit Cortex-M. Render
+//! with [`render::Renderer::render_area`] into the panel with a row buffer in the panel's own
+//! colour type:
+//!
+//! ```
+//! use core::ops::ControlFlow;
+//! use microray::capacity::Capacities;
+//! use microray::embedded_graphics::{pixelcolor::Rgb565, prelude::*, primitives::Rectangle};
+//! use microray::{parse::{no_textures, parse_scene_into}, render::Renderer, Scene};
+//!
+//! const SCENE: &[u8] = b"
+//!     camera eye { pixeldim 160 120 worlddim 8 6 viewpoint 4 3 3 }
+//!     material white { diffuse 3 3 3 ambient 1 1 1 }
+//!     light top { location 4 10 0 emissivity 5 5 5 }
+//!     plane floor { material white normal 0 1 0 point 0 0 0 }
+//! ";
+//! const NEEDS: Capacities = Capacities::of_text(SCENE);
+//! type Sized = Scene<'static, f32, { NEEDS.objects }, { NEEDS.materials }, { NEEDS.lights },
+//!     { NEEDS.textures }, { NEEDS.max_width }>;
+//!
+//! fn draw<D: DrawTarget<Color = Rgb565>>(panel: &mut D) -> Result<(), &'static str> {
+//!     let mut scene = Sized::empty();
+//!     parse_scene_into(SCENE, no_textures, &mut scene).map_err(|_| "bad scene")?;
+//!     let renderer = Renderer::new(&scene);
+//!     let mut row = [Rgb565::BLACK; NEEDS.max_width];
+//!     let area = Rectangle::new(Point::zero(), renderer.size());
+//!     renderer
+//!         .render_area(panel, area, &mut row, |_| ControlFlow::Continue(()))
+//!         .map_err(|_| "panel failed")?;
+//!     Ok(())
+//! }
+//! # let mut panel = embedded_graphics::mock_display::MockDisplay::<Rgb565>::new();
+//! # panel.set_allow_out_of_bounds_drawing(true);
+//! # panel.set_allow_overdraw(true);
+//! # draw(&mut panel).unwrap();
+//! ```
+//!
+//! The crates the API uses are re-exported
+//! ([`embedded_graphics`](https://docs.rs/embedded-graphics/0.8),
+//! [`heapless`](https://docs.rs/heapless/0.9), [`fixed`](https://docs.rs/fixed/1)) so that
+//! firmware names the versions microray was built with. The repository's
+//! `firmware/` renders every scene this way in QEMU, `firmware/quickstart` is this example
+//! as a crate built for `thumbv6m-none-eabi`, and `firmware/pico` runs on a Raspberry Pi
+//! Pico with an ST7789 panel.
 //!
 //! ## Layout
 //! One concept per module: [`scalar`], [`vec3`], [`ray`], [`camera`], [`material`], [`light`],

@@ -2,7 +2,8 @@
 //!
 //! Each row is computed into a row buffer (the caller's, or one of the scene's `MAX_WIDTH`
 //! on the stack) and sent with one `fill_contiguous` call for a 1-pixel-high rectangle, top
-//! row first: no framebuffer, RAM of one row. Colours go through [`Rgb888`], so any colour
+//! row first: no framebuffer, RAM of one row. Colours go through
+//! [`Rgb888`](https://docs.rs/embedded-graphics/0.8/embedded_graphics/pixelcolor/struct.Rgb888.html), so any colour
 //! type with `From<Rgb888>` works (`Rgb565`, `Rgb888`, `Gray8`, ...).
 //!
 //! ```

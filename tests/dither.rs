@@ -2,7 +2,7 @@
 //! both ways, expanded back to 8 bits (as embedded-graphics converts), and compared with the
 //! f64 Rgb888 image after a 4x4 box filter (the eye's blur at a panel's pixel size). The
 //! dithered image must be the closer one on every scene with gradients (all of them).
-//! Prints the table the README quotes.
+//! Prints the table docs/panels.md quotes.
 
 mod common;
 

@@ -5,7 +5,7 @@
 //!
 //! Bounds are relative to the size of the geometry involved (`size`: the largest of the
 //! ray base's and the object's coordinates and radius). They are stated per type below and
-//! quoted in the README's stability section.
+//! quoted in docs/number-types.md's stability section.
 
 use microray::object::{ObjectDef, RectDef};
 use microray::scalar::I16F16;

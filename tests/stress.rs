@@ -1,7 +1,7 @@
 //! Numerical stress: the scenes in `tests/stress/`, each rendered in every number type and
 //! compared with f64, by the object each pixel sees and by pixels. Where a type cannot hold a
 //! scene, the scene must be rejected at load with a range error, not rendered wrong. Prints
-//! the table the README's stability section quotes, and asserts the bounds measured there.
+//! the table docs/number-types.md's stability section quotes, and asserts the bounds measured there.
 
 mod common;
 
@@ -90,7 +90,7 @@ fn compare(reference: &Image, other: &Image) -> Comparison {
 /// scene must be rejected at load with a range error.
 type Bound = Option<(f64, f64)>;
 
-/// The bounds, per scene, for f32 and for I16F16 (measured values in the README; the bounds
+/// The bounds, per scene, for f32 and for I16F16 (measured values in docs/number-types.md; the bounds
 /// leave a margin below them).
 const BOUNDS: [(&str, Bound, Bound); 12] = [
     ("far_1", Some((99.9, 0.05)), Some((99.0, 0.2))),

@@ -27,7 +27,7 @@
 //! pixels identical against 80.7 %). The course's cone leans its normals twice as far as
 //! its side, `r' = -4/3`: fitting the lean `k` of `unit(radial + k axis)` to revsurfa's
 //! brightness down two columns gives an RMS error of 0.7 levels at `k = 4/3` against 23 at
-//! the side's `2/3`. Rendered with these, the images match the course's as the README's
+//! the side's `2/3`. Rendered with these, the images match the course's as docs/conformance.md's
 //! table says.
 //!
 //! # The intersection

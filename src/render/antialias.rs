@@ -149,6 +149,14 @@ impl Samples {
     }
 }
 
+/// `count` samples on a rotated grid, for a count known to be a square.
+const fn rotated(count: u16) -> Samples {
+    match Samples::rotated(count) {
+        Some(samples) => samples,
+        None => Samples::ONE,
+    }
+}
+
 /// Anti-aliasing for [`Renderer::render_antialiased`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Antialias {
@@ -165,6 +173,27 @@ pub enum Antialias {
 }
 
 impl Antialias {
+    /// 4 samples a pixel on a rotated grid.
+    pub const GRID_4: Self = Self::Grid(rotated(4));
+    /// 9 samples a pixel on a rotated grid.
+    pub const GRID_9: Self = Self::Grid(rotated(9));
+    /// 16 samples a pixel on a rotated grid.
+    pub const GRID_16: Self = Self::Grid(rotated(16));
+    /// 16 samples on a rotated grid for the pixels whose neighbours differ by more than 8
+    /// levels or see another object; one ray elsewhere (`microray render --aa adaptive`).
+    pub const ADAPTIVE: Self = Self::Adaptive {
+        samples: rotated(16),
+        threshold: 8,
+    };
+    /// The modes the project measures (the firmware's anti-aliased frames in QEMU, the host
+    /// benchmarks), each with a short name.
+    pub const MEASURED: [(&'static str, Self); 4] = [
+        ("4", Self::GRID_4),
+        ("9", Self::GRID_9),
+        ("16", Self::GRID_16),
+        ("adaptive", Self::ADAPTIVE),
+    ];
+
     /// The [`AaPixel`]s [`Renderer::render_antialiased`] needs for an area `width` pixels
     /// wide, in either mode: two rows of `width + 2` (the adaptive mode's row and the one
     /// below it, each with a neighbour on either side).

@@ -720,11 +720,7 @@ fn process_tables(
 /// others the firmware's, as `benches/render.rs` names them).
 fn aa_modes() -> Vec<(&'static str, Antialias)> {
     let mut modes = vec![("1", Antialias::Grid(Samples::ONE))];
-    modes.extend(
-        qemu::AA_MODES
-            .iter()
-            .map(|&(suffix, aa)| (suffix.trim_start_matches("+aa").trim_start_matches('+'), aa)),
-    );
+    modes.extend(Antialias::MEASURED);
     modes
 }
 

@@ -292,3 +292,25 @@ fn combinations_it_cannot_honour_are_refused_with_a_message() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn a_new_picture_replaces_the_file_a_link_names_with_its_permissions() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = folder("link");
+    let (file, link) = (dir.join("picture.png"), dir.join("link.png"));
+    std::fs::write(&file, b"old").unwrap();
+    std::fs::set_permissions(&file, std::fs::Permissions::from_mode(0o600)).unwrap();
+    std::os::unix::fs::symlink(&file, &link).unwrap();
+    let run = Command::new(BINARY)
+        .args(["render", &scene("minimal.txt"), "-q", "-o", link.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+    let picture = std::fs::read(&file).unwrap();
+    assert_eq!(&picture[1..4], b"PNG");
+    let mode = std::fs::metadata(&file).unwrap().permissions().mode();
+    assert_eq!(mode & 0o777, 0o600);
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 2);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

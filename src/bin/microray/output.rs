@@ -48,18 +48,30 @@ pub(crate) struct Staged {
 
 impl Staged {
     pub(crate) fn create(path: &Path) -> io::Result<Self> {
+        // Through a symbolic link, the file it names is replaced, not the link.
+        let is_link = std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink());
+        let path = if is_link {
+            std::fs::canonicalize(path)?
+        } else {
+            path.to_path_buf()
+        };
         let name = path
             .file_name()
             .unwrap_or(path.as_os_str())
             .to_string_lossy();
         let temporary = path.with_file_name(format!(".{name}.{}.partial", std::process::id()));
         let file = File::create(&temporary)?;
-        Ok(Self {
-            path: path.to_path_buf(),
+        let staged = Self {
+            path,
             temporary,
             file,
             committed: false,
-        })
+        };
+        // The new file keeps the old one's permissions.
+        if let Ok(old) = std::fs::metadata(&staged.path) {
+            staged.file.set_permissions(old.permissions())?;
+        }
+        Ok(staged)
     }
 
     pub(crate) fn file(&self) -> &File {

@@ -302,11 +302,22 @@ fn a_new_picture_replaces_the_file_a_link_names_with_its_permissions() {
     std::fs::set_permissions(&file, std::fs::Permissions::from_mode(0o600)).unwrap();
     std::os::unix::fs::symlink(&file, &link).unwrap();
     let run = Command::new(BINARY)
-        .args(["render", &scene("minimal.txt"), "-q", "-o", link.to_str().unwrap()])
+        .args([
+            "render",
+            &scene("minimal.txt"),
+            "-q",
+            "-o",
+            link.to_str().unwrap(),
+        ])
         .output()
         .unwrap();
     assert!(run.status.success(), "{}", text(&run.stderr));
-    assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+    assert!(
+        std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink()
+    );
     let picture = std::fs::read(&file).unwrap();
     assert_eq!(&picture[1..4], b"PNG");
     let mode = std::fs::metadata(&file).unwrap().permissions().mode();

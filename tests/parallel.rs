@@ -17,12 +17,12 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 fn check<S: Scalar>(path: &Path) {
     let text = std::fs::read(path).unwrap();
-    let Ok(mut scene) =
-        parse_scene::<S, _, _, _, _, _>(&text, texture_files(path.parent().unwrap()))
-    else {
+    let parsed: Result<HostScene<'_, S>, _> =
+        parse_scene(&text, texture_files(path.parent().unwrap()));
+    let Ok(mut scene) = parsed else {
         return;
     };
-    let scene: &mut HostScene<'_, S> = &mut scene;
+    let scene = &mut scene;
     // Small enough to run every scene in every type; tall enough for many bands.
     if scene.set_resolution(64, 60).is_err() {
         return;

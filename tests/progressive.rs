@@ -97,12 +97,12 @@ fn scenes() -> Vec<PathBuf> {
 
 fn check<S: Scalar>(path: &Path) {
     let text = std::fs::read(path).unwrap();
-    let Ok(scene) = parse_scene::<S, _, _, _, _, _>(&text, texture_files(path.parent().unwrap()))
-    else {
+    let parsed: Result<HostScene<'_, S>, _> =
+        parse_scene(&text, texture_files(path.parent().unwrap()));
+    let Ok(scene) = parsed else {
         // A scene the type cannot hold (tests/stress.rs checks that it says so).
         return;
     };
-    let scene: HostScene<'_, S> = scene;
     let renderer: HostRenderer<'_, S> = Renderer::new(&scene);
     let size = renderer.size();
     let mut plain = Framebuffer::new(size);

@@ -1,6 +1,7 @@
 //! Any bytes into the compiled-scene reader, in every number type: an error or a scene,
 //! never a panic; a scene that loads renders at its size (capped) without panicking, and
-//! compiles back to the same bytes. Seed it with `microray compile` output.
+//! compiles back to the same bytes. Seed it with `microray compile --size 32x24` output
+//! (its scene type holds images up to 64 pixels wide).
 #![no_main]
 
 use embedded_graphics::pixelcolor::Rgb888;

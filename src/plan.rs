@@ -161,10 +161,11 @@ impl<const OBJECTS: usize> Plan<OBJECTS> {
         // Indices that do not fit u16 cannot be planned: with more objects than that the
         // plan keeps only the first 65536, so scenes add them only below that (see
         // `Scene::add_object`).
-        if let Ok(index) = u16::try_from(index) {
-            if self.kept.push(index).is_ok() && self.spans.push(span).is_err() {
-                self.kept.pop();
-            }
+        if let Ok(index) = u16::try_from(index)
+            && self.kept.push(index).is_ok()
+            && self.spans.push(span).is_err()
+        {
+            self.kept.pop();
         }
     }
 

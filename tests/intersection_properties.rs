@@ -116,41 +116,41 @@ fn sphere_case<S: Bounds>(
     let size = size(&[center, base], radius);
     let c = Vec3::from_array(center);
     let on_sphere = |p: Vec3<f64>| ((p - c).length_f64() - radius).abs();
-    if let Some(r) = ray::<S>(base, dir) {
-        if let Some(hit) = sphere.hit(&r) {
-            check_hit(&r, &hit, size)?;
-            prop_assert!(
-                on_sphere(hit.point.to_f64()) <= S::OFF_SURFACE * size,
-                "{}: hit {} off the sphere",
-                S::NAME,
-                on_sphere(hit.point.to_f64())
-            );
-            // Leaving outwards (the mirror direction) does not come back to the sphere.
-            let d = r.dir.to_f64();
-            let n = hit.normal.to_f64();
-            let out = d - n * (2.0 * d.dot(n));
-            if out.dot(n) > 1e-3 {
-                let leaving = Ray::new(hit.point, Vec3::<S>::from_f64(out.arr()));
-                prop_assert_eq!(sphere.hit(&leaving), None, "{} re-hit", S::NAME);
-            }
+    if let Some(r) = ray::<S>(base, dir)
+        && let Some(hit) = sphere.hit(&r)
+    {
+        check_hit(&r, &hit, size)?;
+        prop_assert!(
+            on_sphere(hit.point.to_f64()) <= S::OFF_SURFACE * size,
+            "{}: hit {} off the sphere",
+            S::NAME,
+            on_sphere(hit.point.to_f64())
+        );
+        // Leaving outwards (the mirror direction) does not come back to the sphere.
+        let d = r.dir.to_f64();
+        let n = hit.normal.to_f64();
+        let out = d - n * (2.0 * d.dot(n));
+        if out.dot(n) > 1e-3 {
+            let leaving = Ray::new(hit.point, Vec3::<S>::from_f64(out.arr()));
+            prop_assert_eq!(sphere.hit(&leaving), None, "{} re-hit", S::NAME);
         }
     }
     // Aimed at the centre from outside: a hit, at the distance to the surface.
     let b = Vec3::from_array(base);
     let distance = (c - b).length_f64();
-    if distance > radius * 1.01 + 1e-3 {
-        if let Some(r) = ray::<S>(base, (c - b).arr()) {
-            let hit = sphere.hit(&r);
-            prop_assert!(hit.is_some(), "{}: aimed at the centre, missed", S::NAME);
-            if let Some(hit) = hit {
-                let t = hit.t.to_f64();
-                prop_assert!(
-                    (t - (distance - radius)).abs() <= S::OFF_SURFACE * size * 4.0,
-                    "{}: t = {t}, expected {}",
-                    S::NAME,
-                    distance - radius
-                );
-            }
+    if distance > radius * 1.01 + 1e-3
+        && let Some(r) = ray::<S>(base, (c - b).arr())
+    {
+        let hit = sphere.hit(&r);
+        prop_assert!(hit.is_some(), "{}: aimed at the centre, missed", S::NAME);
+        if let Some(hit) = hit {
+            let t = hit.t.to_f64();
+            prop_assert!(
+                (t - (distance - radius)).abs() <= S::OFF_SURFACE * size * 4.0,
+                "{}: t = {t}, expected {}",
+                S::NAME,
+                distance - radius
+            );
         }
     }
     Ok(())

@@ -563,10 +563,10 @@ impl<S: Scalar> Among<'_, S> {
         };
         for &index in list {
             let index = usize::from(index);
-            if let Some(object) = objects.get(index) {
-                if visit(index, object).is_break() {
-                    return;
-                }
+            if let Some(object) = objects.get(index)
+                && visit(index, object).is_break()
+            {
+                return;
             }
         }
     }
@@ -625,13 +625,13 @@ pub fn closest_hit_among<S: Scalar>(
     let mut best = None;
     let mut limit = limit;
     among.each(objects, |index, object| {
-        if Some(index) != skip {
-            if let Some(t) = object.hits(ray, limit) {
-                // The hit point's z, as `ray.at(t)` computes it.
-                if ray.base.z + ray.dir.z * t <= z_limit {
-                    best = Some((index, t));
-                    limit = t;
-                }
+        if Some(index) != skip
+            && let Some(t) = object.hits(ray, limit)
+        {
+            // The hit point's z, as `ray.at(t)` computes it.
+            if ray.base.z + ray.dir.z * t <= z_limit {
+                best = Some((index, t));
+                limit = t;
             }
         }
         ControlFlow::Continue(())
@@ -657,10 +657,10 @@ fn search_tree<S: Scalar>(
         let Some(object) = objects.get(index) else {
             return;
         };
-        if let Some(t) = object.hits(ray, nearest.limit_for(index)) {
-            if ray.base.z + ray.dir.z * t <= z_limit {
-                nearest.offer(index, t);
-            }
+        if let Some(t) = object.hits(ray, nearest.limit_for(index))
+            && ray.base.z + ray.dir.z * t <= z_limit
+        {
+            nearest.offer(index, t);
         }
     };
     for &index in tree.unbounded {

@@ -469,16 +469,16 @@ fn parse_values<'i>(c: &mut Cursor<'i>, attr: Attr) -> Result<(Value<'i>, usize)
         };
         return Err(c.error(kind, t.at));
     }
-    if let Some(t) = c.peek()? {
-        if !matches!(parse_number(t.bytes), Err(NumberError::NotANumber)) {
-            return Err(c.error(
-                ErrorKind::ExtraValue {
-                    attr,
-                    expected: count,
-                },
-                t.at,
-            ));
-        }
+    if let Some(t) = c.peek()?
+        && !matches!(parse_number(t.bytes), Err(NumberError::NotANumber))
+    {
+        return Err(c.error(
+            ErrorKind::ExtraValue {
+                attr,
+                expected: count,
+            },
+            t.at,
+        ));
     }
     if count == 1 && values_of(attr) == Values::Channels {
         // One number for every channel.

@@ -345,15 +345,11 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
                     self.add_row(&mut tests, camera_y, left + lo as u16, shift, middle, false);
                 }
                 let mirrored = self.samples.shift_of([-x, y], self.pitch);
-                if mirror_first {
-                    if let Some(p) = sums.first_mut() {
-                        p.add(self.sample(camera_y, 0, mirrored, Among::All));
-                    }
+                if mirror_first && let Some(p) = sums.first_mut() {
+                    p.add(self.sample(camera_y, 0, mirrored, Among::All));
                 }
-                if mirror_last {
-                    if let Some(p) = sums.last_mut() {
-                        p.add(self.sample(camera_y, last, mirrored, Among::All));
-                    }
+                if mirror_last && let Some(p) = sums.last_mut() {
+                    p.add(self.sample(camera_y, last, mirrored, Among::All));
                 }
             }
             let line = Rectangle::new(
@@ -597,11 +593,11 @@ fn send_row<D: DrawTarget>(
 fn mark_edges(row: &mut [AaPixel], threshold: u8) {
     let mut left: Option<&mut AaPixel> = None;
     for p in row.iter_mut() {
-        if let Some(a) = left {
-            if a.differs(p, threshold) {
-                a.edge = true;
-                p.edge = true;
-            }
+        if let Some(a) = left
+            && a.differs(p, threshold)
+        {
+            a.edge = true;
+            p.edge = true;
         }
         left = Some(p);
     }

@@ -303,12 +303,12 @@ impl<S: Scalar> Shader<'_, S> {
         let mut next = [None; BATCH];
         let mut any = false;
         for (next, shade) in next.iter_mut().zip(shaded) {
-            if let Some(shade) = shade {
-                if leaves(self, shade.surface.material) {
-                    let leaving = ray(shade.ray, &shade.surface.hit, &shade.onward);
-                    *next = Some(follow(leaving, &shade.onward));
-                    any = true;
-                }
+            if let Some(shade) = shade
+                && leaves(self, shade.surface.material)
+            {
+                let leaving = ray(shade.ray, &shade.surface.hit, &shade.onward);
+                *next = Some(follow(leaving, &shade.onward));
+                any = true;
             }
         }
         if !any {
@@ -318,10 +318,10 @@ impl<S: Scalar> Shader<'_, S> {
         self.trace_lanes(&mut next, &mut seen);
         // The same test as above (`trace_lanes` drops the lanes it stops: they add black).
         for ((c, seen), shade) in out.iter_mut().zip(&seen).zip(shaded) {
-            if let Some(shade) = shade {
-                if leaves(self, shade.surface.material) {
-                    *c = add(*c, *seen, shade.surface.material);
-                }
+            if let Some(shade) = shade
+                && leaves(self, shade.surface.material)
+            {
+                *c = add(*c, *seen, shade.surface.material);
             }
         }
     }

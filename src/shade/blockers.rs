@@ -276,28 +276,32 @@ impl Clearing {
         }
         // Each plane written out (as a loop, +3 % on shiny3).
         let [first, second] = &self.planes;
-        if let Some((index, side)) = first {
-            if *index != own && !side.clear(point, distance) {
-                return false;
-            }
+        if let Some((index, side)) = first
+            && *index != own
+            && !side.clear(point, distance)
+        {
+            return false;
         }
-        if let Some((index, side)) = second {
-            if *index != own && !side.clear(point, distance) {
-                return false;
-            }
+        if let Some((index, side)) = second
+            && *index != own
+            && !side.clear(point, distance)
+        {
+            return false;
         }
         // One test for the scenes without finite planes.
         if self.any_rects {
             let [first, second] = &self.rects;
-            if let Some((index, cone)) = first {
-                if *index != own && !cone.clear(point, l, distance) {
-                    return false;
-                }
+            if let Some((index, cone)) = first
+                && *index != own
+                && !cone.clear(point, l, distance)
+            {
+                return false;
             }
-            if let Some((index, cone)) = second {
-                if *index != own && !cone.clear(point, l, distance) {
-                    return false;
-                }
+            if let Some((index, cone)) = second
+                && *index != own
+                && !cone.clear(point, l, distance)
+            {
+                return false;
             }
         }
         // A plain loop: as iterator adapters the compiler left it out of line.
@@ -506,11 +510,12 @@ fn rect_cone<S: Scalar>(
         side,
     };
     let mut reach = side.map_or(f64::INFINITY, |side| side.reach);
-    if let Some((axis, cos, d)) = cone(center, radius, light) {
-        if cos > NARROW_COS && norm_1(center) + norm_1(light) < d * RECT_REACH {
-            (rect_cone.axis, rect_cone.cos) = (axis, cos);
-            reach = reach.min(d * RECT_REACH);
-        }
+    if let Some((axis, cos, d)) = cone(center, radius, light)
+        && cos > NARROW_COS
+        && norm_1(center) + norm_1(light) < d * RECT_REACH
+    {
+        (rect_cone.axis, rect_cone.cos) = (axis, cos);
+        reach = reach.min(d * RECT_REACH);
     }
     (rect_cone.cos > -2.0 || side.is_some()).then_some((rect_cone, reach))
 }

@@ -14,7 +14,7 @@ use microray::parse::parse_scene_into;
 use microray::print::print_scene;
 use microray::render::{Antialias, Pattern, Renderer, Samples, Shading};
 use microray::scalar::I16F16;
-use output::{Format, Image, Staged};
+use output::{Format, Image, Staged, is_stdio};
 use std::io::{IsTerminal, Read, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -365,10 +365,6 @@ fn shown(path: &Path, stdio: &str) -> String {
     }
 }
 
-fn is_stdio(path: &Path) -> bool {
-    path == Path::new("-")
-}
-
 // Each command is a function of its own, never inlined: a frame with a command's locals
 // in `main` would be stack that every command faults in.
 #[inline(never)]
@@ -494,7 +490,9 @@ fn compile<S: Scalar>(path: &Path, output: &Path, size: Option<(u16, u16)>) -> R
     }
     let mut bytes = Vec::new();
     scene.write_compiled(&mut |piece| bytes.extend_from_slice(piece));
-    write_whole(output, |out| out.write_all(&bytes))?;
+    write_whole(output, |out| {
+        out.write_all(&bytes).map_err(|e| cannot_write(output, e))
+    })?;
     note(&format!(
         "{}: {} bytes ({}) -> {}",
         shown(path, "<stdin>"),
@@ -505,22 +503,20 @@ fn compile<S: Scalar>(path: &Path, output: &Path, size: Option<(u16, u16)>) -> R
 }
 
 /// Writes a file (`-`: standard output) with `write`: a regular file is written beside its
-/// name and put in place when whole ([`Staged`]).
+/// name and put in place when whole ([`Staged`]), anything else as it is.
 fn write_whole(
     output: &Path,
-    write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+    write: impl FnOnce(&mut (dyn Write + Send)) -> Result<(), Stop>,
 ) -> Result<(), Stop> {
-    if is_stdio(output) || output::is_special(output) {
+    if output::writes_in_place(output) {
         let mut out = output::stream(output).map_err(|e| cannot_write(output, e))?;
-        return write(&mut out)
-            .and_then(|()| out.flush())
-            .map_err(|e| cannot_write(output, e));
+        write(&mut out)?;
+        return out.flush().map_err(|e| cannot_write(output, e));
     }
     let staged = Staged::create(output).map_err(|e| cannot_write(output, e))?;
     let mut out = std::io::BufWriter::with_capacity(64 * 1024, staged.file());
-    write(&mut out)
-        .and_then(|()| out.flush())
-        .map_err(|e| cannot_write(output, e))?;
+    write(&mut out)?;
+    out.flush().map_err(|e| cannot_write(output, e))?;
     drop(out);
     staged.commit().map_err(|e| cannot_write(output, e))
 }
@@ -581,7 +577,7 @@ fn format_of(output: &Path, asked: Option<Format>) -> Result<Format, String> {
             asked.extension()
         )),
         (Some(format), _) | (None, Some(format)) => Ok(format),
-        (None, None) if is_stdio(output) || output::is_special(output) => Ok(Format::Ppm),
+        (None, None) if output::writes_in_place(output) => Ok(Format::Ppm),
         (None, None) => Err(format!(
             "{}: error: unknown image format (name it .ppm or .png, or give --format)",
             output.display()
@@ -692,13 +688,16 @@ fn write_framebuffer(image: &Framebuffer, format: Format, output: &Path) -> Resu
     let size = image.size();
     let row_bytes = size.width as usize * 3;
     write_whole(output, |out| {
-        let mut file = Image::start(format, size.width, size.height, out)?;
-        let mut encoder = file.encoder()?;
-        for rows in image.rgb().chunks(row_bytes.max(1) * 64) {
-            encoder.rows(rows)?;
-        }
-        encoder.finish()?;
-        file.finish()
+        let encoded = (|| {
+            let mut file = Image::start(format, size, out)?;
+            let mut encoder = file.encoder()?;
+            for rows in image.rgb().chunks(row_bytes.max(1) * 64) {
+                encoder.rows(rows)?;
+            }
+            encoder.finish()?;
+            file.finish()
+        })();
+        encoded.map_err(|e| cannot_write(output, e))
     })
 }
 
@@ -744,9 +743,8 @@ fn render_rows<S: Scalar>(
             StreamError::Render(e) => Stop::Failed(format!("{name}: error: {e}")),
         }
     };
-    let special = is_stdio(output) || output::is_special(output);
     // Writing at an offset is a Unix call (Windows has one that moves the file's cursor).
-    if format == Format::Ppm && !special && cfg!(unix) {
+    if format == Format::Ppm && !output::writes_in_place(output) && cfg!(unix) {
         let staged = Staged::create(output).map_err(|e| cannot_write(output, e))?;
         let file = staged.file();
         let header = microray::host::ppm_header(size);
@@ -764,36 +762,23 @@ fn render_rows<S: Scalar>(
         .map_err(failed)?;
         staged.commit().map_err(|e| cannot_write(output, e))?;
     } else {
-        let mut staged = None;
-        let out: Box<dyn Write + Send> = if special {
-            Box::new(output::stream(output).map_err(|e| cannot_write(output, e))?)
-        } else {
-            let file = staged
-                .insert(Staged::create(output).map_err(|e| cannot_write(output, e))?)
-                .file()
-                .try_clone()
-                .map_err(|e| cannot_write(output, e))?;
-            Box::new(std::io::BufWriter::with_capacity(64 * 1024, file))
-        };
-        let mut image = Image::start(format, size.width, size.height, out)
-            .map_err(|e| cannot_write(output, e))?;
-        let mut encoder = image.encoder().map_err(|e| cannot_write(output, e))?;
-        microray::host::render_in_order(
-            renderer,
-            options.threads,
-            options.aa,
-            progress,
-            |top, pixels: &mut [u8]| {
-                to_depth(pixels, width, top, depth);
-                encoder.rows(pixels)
-            },
-        )
-        .map_err(failed)?;
-        encoder.finish().map_err(|e| cannot_write(output, e))?;
-        image.finish().map_err(|e| cannot_write(output, e))?;
-        if let Some(staged) = staged {
-            staged.commit().map_err(|e| cannot_write(output, e))?;
-        }
+        write_whole(output, |out| {
+            let mut image = Image::start(format, size, out).map_err(|e| cannot_write(output, e))?;
+            let mut encoder = image.encoder().map_err(|e| cannot_write(output, e))?;
+            microray::host::render_in_order(
+                renderer,
+                options.threads,
+                options.aa,
+                progress,
+                |top, pixels: &mut [u8]| {
+                    to_depth(pixels, width, top, depth);
+                    encoder.rows(pixels)
+                },
+            )
+            .map_err(failed)?;
+            encoder.finish().map_err(|e| cannot_write(output, e))?;
+            image.finish().map_err(|e| cannot_write(output, e))
+        })?;
     }
     if let Some(b) = bar.get() {
         b.finish_and_clear();

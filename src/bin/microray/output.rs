@@ -3,6 +3,7 @@
 //! or PNG, encoded row by row in order as the rows arrive
 //! ([`microray::host::render_in_order`]).
 
+use embedded_graphics::prelude::Size;
 use std::fs::File;
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -115,10 +116,15 @@ impl Drop for Staged {
     }
 }
 
-/// Whether `path` names something to write into as it is (a device, a pipe), not a file to
-/// replace: an existing path that is not a regular file.
-pub(crate) fn is_special(path: &Path) -> bool {
-    std::fs::metadata(path).is_ok_and(|m| !m.is_file())
+/// Whether `path` is `-`: standard input or output.
+pub(crate) fn is_stdio(path: &Path) -> bool {
+    path == Path::new("-")
+}
+
+/// Whether `path` names something to write into as it is, not a file to replace: standard
+/// output (`-`), or an existing path that is not a regular file (a device, a pipe).
+pub(crate) fn writes_in_place(path: &Path) -> bool {
+    is_stdio(path) || std::fs::metadata(path).is_ok_and(|m| !m.is_file())
 }
 
 /// An image file being written: its header is out, its rows go through an [`Encoder`].
@@ -128,15 +134,15 @@ pub(crate) enum Image<W: Write> {
 }
 
 impl<W: Write> Image<W> {
-    /// Writes the header of a `width` x `height` image in `format` to `out`.
-    pub(crate) fn start(format: Format, width: u32, height: u32, mut out: W) -> io::Result<Self> {
+    /// Writes the header of an image of `size` in `format` to `out`.
+    pub(crate) fn start(format: Format, size: Size, mut out: W) -> io::Result<Self> {
         match format {
             Format::Ppm => {
-                out.write_all(format!("P6\n{width} {height} 255\n").as_bytes())?;
+                out.write_all(microray::host::ppm_header(size).as_bytes())?;
                 Ok(Image::Ppm(out))
             }
             Format::Png => {
-                let mut encoder = png::Encoder::new(out, width, height);
+                let mut encoder = png::Encoder::new(out, size.width, size.height);
                 encoder.set_color(png::ColorType::Rgb);
                 encoder.set_depth(png::BitDepth::Eight);
                 Ok(Image::Png(encoder.write_header().map_err(encoding)?))
@@ -193,12 +199,9 @@ fn encoding(e: png::EncodingError) -> io::Error {
     }
 }
 
-/// Standard output or a file as it is, buffered.
-pub(crate) type Stream = BufWriter<Box<dyn Write + Send>>;
-
-/// `path` (`-`: standard output) opened to write into as it is.
-pub(crate) fn stream(path: &Path) -> io::Result<Stream> {
-    let out: Box<dyn Write + Send> = if path == Path::new("-") {
+/// `path` (`-`: standard output) opened to write into as it is, buffered.
+pub(crate) fn stream(path: &Path) -> io::Result<BufWriter<Box<dyn Write + Send>>> {
+    let out: Box<dyn Write + Send> = if is_stdio(path) {
         Box::new(io::stdout())
     } else {
         Box::new(std::fs::OpenOptions::new().write(true).open(path)?)

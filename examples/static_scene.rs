@@ -9,6 +9,7 @@
 use microray::host::Framebuffer;
 use microray::object::{RectDef, TextureMode};
 use microray::render::render;
+use microray::scene::TinyScene;
 use microray::{CameraDef, LightDef, MaterialDef, ObjectDef, Scene, TextureDef};
 
 const CAMERA: CameraDef<'static> = CameraDef::new("eye", [320, 240], [8.0, 6.0], [4.0, 3.0, 6.0]);
@@ -78,13 +79,13 @@ const OBJECTS: [ObjectDef<'static>; 4] = [
 ];
 
 /// Capacities sized to this scene: 4 objects, 4 materials, 2 lights, 1 texture, rows of 320.
-type SmallScene = Scene<'static, f32, 4, 4, 2, 1, 320>;
+type StaticScene = TinyScene<'static, f32>;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let scene: SmallScene = Scene::from_defs(&CAMERA, &MATERIALS, &TEXTURES, &LIGHTS, &OBJECTS)?;
+    let scene: StaticScene = Scene::from_defs(&CAMERA, &MATERIALS, &TEXTURES, &LIGHTS, &OBJECTS)?;
     println!(
         "scene: {} bytes of RAM in f32",
-        core::mem::size_of::<SmallScene>()
+        core::mem::size_of::<StaticScene>()
     );
     let mut image = Framebuffer::new(embedded_graphics::prelude::Size::new(320, 240));
     render(&scene, &mut image)?;

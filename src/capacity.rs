@@ -1,7 +1,7 @@
 //! How much room a scene needs: its capacities counted from the scene's text, at compile
 //! time if need be, and named sizes for scenes written by hand.
 //!
-//! A [`Scene`]'s five capacities are const generics, and every slot costs RAM
+//! A [`Scene`](crate::Scene)'s five capacities are const generics, and every slot costs RAM
 //! whether it is used or not. For a scene file that firmware embeds, [`Capacities::of_text`]
 //! counts them in a `const`, so the type fits the file exactly and follows it when it
 //! changes:
@@ -39,13 +39,14 @@
 //! A firmware `build.rs` that picks its scenes at build time can call the same function
 //! (and [`Capacities::max`] over several scenes) and write the type out.
 //!
-//! For scenes built in source, or read at run time, the aliases give common sizes a name:
-//! [`TinyScene`], [`SmallScene`], [`LargeScene`] (and the default [`Scene`]).
+//! For scenes built in source, or read at run time, [`scene`](crate::scene)'s aliases give
+//! common sizes a name: [`TinyScene`](crate::scene::TinyScene),
+//! [`SmallScene`](crate::scene::SmallScene), [`LargeScene`](crate::scene::LargeScene) (and
+//! the default [`Scene`](crate::Scene)).
+//!
+//! This module depends on no other: the parser shares its token rules.
 
-use crate::scalar::Scalar;
-use crate::scene::Scene;
-
-/// The room a scene needs in each capacity of [`Scene`]: `Scene<'t, S, OBJECTS, MATERIALS,
+/// The room a scene needs in each capacity of [`Scene`](crate::Scene): `Scene<'t, S, OBJECTS, MATERIALS,
 /// LIGHTS, TEXTURES, MAX_WIDTH>`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Capacities {
@@ -124,50 +125,7 @@ impl Capacities {
             max_width: larger(self.max_width, other.max_width),
         }
     }
-
-    /// Whether a scene of these needs fits in `room`.
-    pub const fn fits_in(self, room: Self) -> bool {
-        self.objects <= room.objects
-            && self.materials <= room.materials
-            && self.lights <= room.lights
-            && self.textures <= room.textures
-            && self.max_width <= room.max_width
-    }
-
-    /// The capacities of a scene type.
-    pub const fn of_scene<
-        S: Scalar,
-        const OBJECTS: usize,
-        const MATERIALS: usize,
-        const LIGHTS: usize,
-        const TEXTURES: usize,
-        const MAX_WIDTH: usize,
-    >(
-        _scene: &Scene<'_, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>,
-    ) -> Self {
-        Self {
-            objects: OBJECTS,
-            materials: MATERIALS,
-            lights: LIGHTS,
-            textures: TEXTURES,
-            max_width: MAX_WIDTH,
-        }
-    }
 }
-
-/// A few objects on a small panel: 4 objects, 4 materials, 2 lights, 1 texture, 320 pixels
-/// wide (a floor, a wall and two balls under a lamp and a spotlight). About 1.6 KiB of RAM
-/// on a 32-bit Cortex-M in `f32` or `I16F16` (the slot sizes are in [`Scene`]'s docs).
-pub type TinyScene<'t, S> = Scene<'t, S, 4, 4, 2, 1, 320>;
-
-/// A room of things on a panel up to 480 pixels wide: 16 objects, 8 materials, 4 lights,
-/// 4 textures. About 4.8 KiB of RAM on a 32-bit Cortex-M.
-pub type SmallScene<'t, S> = Scene<'t, S, 16, 8, 4, 4, 480>;
-
-/// Most hand-written scenes, up to 1024 pixels wide: 128 objects, 32 materials, 16 lights,
-/// 16 textures. About 30 KiB of RAM on a 32-bit Cortex-M: for boards with RAM to spare, or
-/// the host.
-pub type LargeScene<'t, S> = Scene<'t, S, 128, 32, 16, 16, 1024>;
 
 /// What the scan of a scene's text reports.
 #[derive(Clone, Copy)]
@@ -262,7 +220,7 @@ impl<'a> Events<'a> {
         let mut len = 0;
         let mut rest = start;
         while let Some((&b, after)) = rest.split_first() {
-            if is_space(b) || b == b'{' || b == b'}' {
+            if is_delimiter(b) {
                 break;
             }
             len += 1;
@@ -356,8 +314,14 @@ const fn named_before(text: &[u8], name: &[u8], count: usize) -> bool {
     false
 }
 
-const fn is_space(b: u8) -> bool {
+/// White space between tokens (the parser's too).
+pub(crate) const fn is_space(b: u8) -> bool {
     matches!(b, b' ' | b'\t' | b'\n' | b'\r' | 0x0b | 0x0c)
+}
+
+/// What ends a token: white space or a brace (the parser's too).
+pub(crate) const fn is_delimiter(b: u8) -> bool {
+    is_space(b) || b == b'{' || b == b'}'
 }
 
 /// Byte-wise equality, in a `const fn`.

@@ -64,6 +64,20 @@ impl<S: Scalar> Limits<S> {
 /// The default widest image: the renderer keeps one row of this many pixels.
 pub const DEFAULT_MAX_WIDTH: usize = 1024;
 
+/// A few objects on a small panel: 4 objects, 4 materials, 2 lights, 1 texture, 320 pixels
+/// wide (a floor, a wall and two balls under a lamp and a spotlight). About 1.6 KiB of RAM
+/// on a 32-bit Cortex-M in `f32` or `I16F16` (the slot sizes are in [`Scene`]'s docs; [`crate::capacity`] counts a scene file's).
+pub type TinyScene<'t, S> = Scene<'t, S, 4, 4, 2, 1, 320>;
+
+/// A room of things on a panel up to 480 pixels wide: 16 objects, 8 materials, 4 lights,
+/// 4 textures. About 4.8 KiB of RAM on a 32-bit Cortex-M.
+pub type SmallScene<'t, S> = Scene<'t, S, 16, 8, 4, 4, 480>;
+
+/// Most hand-written scenes, up to 1024 pixels wide: 128 objects, 32 materials, 16 lights,
+/// 16 textures. About 30 KiB of RAM on a 32-bit Cortex-M: for boards with RAM to spare, or
+/// the host.
+pub type LargeScene<'t, S> = Scene<'t, S, 128, 32, 16, 16, 1024>;
+
 /// A checked scene, built in place: [`Scene::new`] with a camera, then `add_*` for each part,
 /// checking each as it comes (no second copy of the scene is ever needed, which matters on a
 /// microcontroller's stack). Or [`Scene::from_defs`], or the parser.

@@ -2,6 +2,7 @@
 
 use super::{Values, values_of};
 use crate::camera::CameraDef;
+use crate::capacity::{is_delimiter, is_space};
 use crate::decimal::{NumberError, parse_number};
 use crate::error::{
     Attr, Entity, Error, ErrorKind, Feature, Position, Range, Snippet, TextureError,
@@ -22,14 +23,6 @@ use nom::combinator::recognize;
 use nom::multi::many0_count;
 use nom::sequence::pair;
 use nom::{IResult, Parser};
-
-fn is_space(b: u8) -> bool {
-    matches!(b, b' ' | b'\t' | b'\n' | b'\r' | 0x0b | 0x0c)
-}
-
-fn is_delimiter(b: u8) -> bool {
-    is_space(b) || b == b'{' || b == b'}'
-}
 
 /// Whitespace and `#` comments (to the end of the line).
 fn blank(input: &[u8]) -> IResult<&[u8], usize> {

@@ -6,49 +6,22 @@
 #[path = "../firmware/quickstart/src/lib.rs"]
 mod quickstart;
 
+mod common;
+
+use common::Panel;
+
 use embedded_graphics::pixelcolor::Rgb565;
 use embedded_graphics::prelude::*;
 use embedded_graphics::primitives::Rectangle;
 use microray::parse::{no_textures, parse_scene};
 use microray::render::Renderer;
-use std::convert::Infallible;
 use std::ops::ControlFlow;
-
-/// A panel that keeps what it is sent.
-struct Panel {
-    size: Size,
-    pixels: Vec<Rgb565>,
-}
-
-impl OriginDimensions for Panel {
-    fn size(&self) -> Size {
-        self.size
-    }
-}
-
-impl DrawTarget for Panel {
-    type Color = Rgb565;
-    type Error = Infallible;
-    fn draw_iter<I: IntoIterator<Item = Pixel<Rgb565>>>(
-        &mut self,
-        pixels: I,
-    ) -> Result<(), Infallible> {
-        for Pixel(p, c) in pixels {
-            let i = p.y as usize * self.size.width as usize + p.x as usize;
-            self.pixels[i] = c;
-        }
-        Ok(())
-    }
-}
 
 #[test]
 fn the_quick_start_draws_what_the_library_draws() {
     let roomy: microray::Scene<'_, f32> = parse_scene(quickstart::SCENE, no_textures).unwrap();
     let size = Renderer::new(&roomy).size();
-    let blank = || Panel {
-        size,
-        pixels: vec![Rgb565::new(1, 2, 3); (size.width * size.height) as usize],
-    };
+    let blank = || Panel::filled(size, Rgb565::new(1, 2, 3));
     let mut expected = blank();
     let mut row = vec![Rgb565::BLACK; size.width as usize];
     let all = Rectangle::new(Point::zero(), size);

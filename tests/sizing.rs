@@ -10,43 +10,11 @@ use microray::parse::{no_textures, parse_scene_into};
 use microray::render::Renderer;
 use microray::scalar::I16F16;
 use microray::{Scalar, Scene};
-use std::convert::Infallible;
 use std::ops::ControlFlow;
 
 mod common;
 
-/// A panel that keeps what it is sent, in its own colour type.
-struct Panel<C> {
-    size: Size,
-    pixels: Vec<C>,
-}
-
-impl<C: PixelColor + Default> Panel<C> {
-    fn new(width: u32, height: u32) -> Self {
-        Self {
-            size: Size::new(width, height),
-            pixels: vec![C::default(); (width * height) as usize],
-        }
-    }
-}
-
-impl<C: PixelColor> OriginDimensions for Panel<C> {
-    fn size(&self) -> Size {
-        self.size
-    }
-}
-
-impl<C: PixelColor> DrawTarget for Panel<C> {
-    type Color = C;
-    type Error = Infallible;
-    fn draw_iter<I: IntoIterator<Item = Pixel<C>>>(&mut self, pixels: I) -> Result<(), Infallible> {
-        for Pixel(p, c) in pixels {
-            let i = p.y as usize * self.size.width as usize + p.x as usize;
-            self.pixels[i] = c;
-        }
-        Ok(())
-    }
-}
+use common::Panel;
 
 /// The project's smallest scene: a floor, a ball, one light (2 objects, 2 materials).
 const MINIMAL: &[u8] = include_bytes!("../scenes/minimal.txt");

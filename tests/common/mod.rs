@@ -1,6 +1,7 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
+use embedded_graphics::prelude::{DrawTarget, OriginDimensions, Pixel, PixelColor, Size};
 use microray::Scalar;
 use microray::host::{Framebuffer, HostScene};
 use microray::object::Shape;
@@ -165,4 +166,45 @@ pub fn image<S: Scalar, const OBJECTS: usize>(renderer: &Renderer<'_, S, OBJECTS
         .render_area(&mut image, all, &mut row, |_| ControlFlow::Continue(()))
         .unwrap();
     image
+}
+
+/// A panel that keeps what it is sent, in its own colour type.
+pub struct Panel<C> {
+    pub size: Size,
+    pub pixels: Vec<C>,
+}
+
+impl<C: PixelColor + Default> Panel<C> {
+    pub fn new(width: u32, height: u32) -> Self {
+        Self::filled(Size::new(width, height), C::default())
+    }
+
+    /// A panel whose every pixel starts as `color` (to see which pixels were drawn).
+    pub fn filled(size: Size, color: C) -> Self {
+        Self {
+            size,
+            pixels: vec![color; (size.width * size.height) as usize],
+        }
+    }
+}
+
+impl<C: PixelColor> OriginDimensions for Panel<C> {
+    fn size(&self) -> Size {
+        self.size
+    }
+}
+
+impl<C: PixelColor> DrawTarget for Panel<C> {
+    type Color = C;
+    type Error = std::convert::Infallible;
+    fn draw_iter<I: IntoIterator<Item = Pixel<C>>>(
+        &mut self,
+        pixels: I,
+    ) -> Result<(), std::convert::Infallible> {
+        for Pixel(p, c) in pixels {
+            let i = p.y as usize * self.size.width as usize + p.x as usize;
+            self.pixels[i] = c;
+        }
+        Ok(())
+    }
 }

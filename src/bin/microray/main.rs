@@ -674,9 +674,14 @@ fn render_progressive<S: Scalar>(
             output.to_path_buf()
         };
         if *block > 1 || pass + 1 == microray::render::BLOCKS.len() {
-            let mut shown_image = image.clone();
-            to_depth(shown_image.rgb_mut(), size.width as usize, 0, depth);
-            write_framebuffer(&shown_image, format, &target)?;
+            if depth == Output::Rgb888 {
+                write_framebuffer(&image, format, &target)?;
+            } else {
+                // The next pass draws on the picture itself: the panel's view is a copy.
+                let mut shown_image = image.clone();
+                to_depth(shown_image.rgb_mut(), size.width as usize, 0, depth);
+                write_framebuffer(&shown_image, format, &target)?;
+            }
         }
     }
     Ok(())

@@ -40,19 +40,25 @@
 //!
 //! 1. The interval: where `0 <= h(t) <= height` (the slab) and `rho(t)` is at most the
 //!    profile's largest radius (the bounding cylinder, solved exactly with its
-//!    discriminant in the perpendicular form `A R^2 - ((w x d) . a)^2`), within `(0, limit)`.
+//!    discriminant in the perpendicular form `A R^2 - ((w x d) . a)^2`), ahead of the ray's
+//!    base. Not cut at the caller's `limit`: the search, and so the crossing it finds, is
+//!    the same whatever the limit (whichever object was tested first); the limit only
+//!    decides whether the crossing is kept, and skips a surface that begins beyond it.
 //! 2. Bracketing: the interval is split in halves, left first, until a piece shows a sign
 //!    change or is proved free of roots: `|G'| <= L` on a piece (`L` from the line's
 //!    `|d(rho^2)/dt| = 2 |A t + B|` at the ends and the profile's largest `|r r'|`), so a
-//!    piece whose ends satisfy `|G(a)| + |G(b)| > L (b - a)` has no root. Rays far from the
-//!    surface are dismissed in a few evaluations; a ray grazing a silhouette is followed
-//!    down to [`DEPTH`] halvings (1/65536 of the interval): nothing is missed that the ray
-//!    passes through for more than that.
+//!    piece whose ends satisfy `|G(a)| + |G(b)| > L (b - a)` has no root. A sign change
+//!    brackets an odd number of roots, so a piece that shows one is split on until `G` is
+//!    provably monotonic on it (the line's part of `G'` outweighs the profile's) and holds
+//!    only the first. Rays far from the surface are dismissed in a few evaluations; a ray
+//!    grazing a silhouette is followed down to [`DEPTH`] halvings (1/65536 of the
+//!    interval): nothing is missed that the ray passes through for more than that.
 //! 3. Refinement: the Illinois variant of regula falsi on the bracket, until it stops
 //!    shrinking; the hit is the end on the ray's side (no acne: the point is never inside).
 //!
-//! Every step is bounded: at most [`MAX_EVALUATIONS`] evaluations of `G` a ray, each one
-//! profile (a sine) and a few products.
+//! Every step is bounded: at most [`MAX_BRACKETING`] evaluations of `G` a ray to bracket
+//! (if they run out, the nearest bracket found so far is refined) and
+//! [`MAX_EVALUATIONS`] in all, each one profile (a sine) and a few products.
 
 use super::{
     Object, ObjectVTable, Palette, Shape, Surface, ahead, object_material, object_surface,
@@ -70,8 +76,11 @@ use core::fmt;
 /// Halvings of the interval at most while bracketing (the depth of the search's stack).
 pub const DEPTH: usize = 16;
 
+/// Evaluations of `G` a ray at most while bracketing.
+pub const MAX_BRACKETING: u32 = 96;
+
 /// Evaluations of `G` a ray at most: bracketing and refinement together.
-pub const MAX_EVALUATIONS: u32 = 96;
+pub const MAX_EVALUATIONS: u32 = 128;
 
 /// A profile: the radius as a function of the height along the axis (`surfer` in the
 /// scene; see the module's docs for how they were recovered).
@@ -242,9 +251,16 @@ impl<S: Scalar> RevSurf<S> {
     }
 
     /// [`nearest`](Self::nearest) from `base` along `dir`.
+    ///
+    /// The search runs over the whole interval where the ray is inside the bounds, not
+    /// only up to `limit`: what it finds does not depend on the limit (and so on which
+    /// object was tested first), only whether it is kept does.
     fn nearest_along(&self, base: Vec3<S>, dir: Vec3<S>, limit: S) -> Option<S> {
         let line = Line::new(self, base, dir);
-        let (low, high) = self.interval(&line, limit)?;
+        let (low, high) = self.interval(&line)?;
+        if !(low < limit) {
+            return None;
+        }
         let mut search = Search {
             surface: self,
             line: &line,
@@ -254,10 +270,10 @@ impl<S: Scalar> RevSurf<S> {
     }
 
     /// Where the ray is within the slab `0 <= h <= height` and the bounding cylinder, and
-    /// within `(0, limit)`.
-    fn interval(&self, line: &Line<S>, limit: S) -> Option<(S, S)> {
+    /// ahead of its base.
+    fn interval(&self, line: &Line<S>) -> Option<(S, S)> {
         let mut low = S::ZERO;
-        let mut high = limit;
+        let mut high = S::UNBOUNDED;
         // The slab.
         if line.hd == S::ZERO {
             if line.h0 < S::ZERO || line.h0 > self.height {
@@ -389,6 +405,15 @@ impl<S: Scalar> Search<'_, S> {
         S::TWO * (ends + self.surface.steepest * line.hd.abs())
     }
 
+    /// Whether `G` is monotonic on `[a, b]`: `G' = 2 (A t + B) - 2 r r' hd`, whose line
+    /// part (linear in `t`, so bounded by its ends) outweighs the profile's part there.
+    fn monotonic(&self, a: S, b: S) -> bool {
+        let line = self.line;
+        let profile = self.surface.steepest * line.hd.abs();
+        let (first, last) = (line.a * a + line.b, line.a * b + line.b);
+        first > profile || last < -profile
+    }
+
     /// The first `t` in `[low, high]` where `G` changes sign.
     fn first_root(&mut self, low: S, high: S) -> Option<S> {
         // Pieces narrower than this are not split: DEPTH halvings of the interval.
@@ -403,19 +428,19 @@ impl<S: Scalar> Search<'_, S> {
         let (mut ga, mut gb) = (self.g(a), self.g(b));
         // The sign the ray starts with: outside (G > 0) or inside an open end (G < 0).
         let outside = ga > S::ZERO;
+        // The nearest bracket found so far: refined if the budget runs out before every
+        // piece to its left is settled.
+        let mut known = None;
         loop {
-            if self.evaluations >= MAX_EVALUATIONS {
-                return None;
+            if self.evaluations >= MAX_BRACKETING {
+                let (a, ga, b, gb) = known?;
+                return Some(self.refine(a, ga, b, gb));
             }
             let crossed = if outside {
                 !(gb > S::ZERO)
             } else {
                 !(gb < S::ZERO)
             };
-            if crossed {
-                return Some(self.refine(a, ga, b, gb));
-            }
-            let settled = ga.abs() + gb.abs() > self.slope_bound(a, b) * (b - a);
             // The first split is at the ray's closest approach to the axis, if it is inside:
             // where a ray grazing a silhouette touches the surface; then halves.
             let closest = if depth == 0 && self.line.a > S::ZERO {
@@ -428,7 +453,16 @@ impl<S: Scalar> Search<'_, S> {
             } else {
                 a + (b - a) * S::SINE[0]
             };
-            if settled || depth == DEPTH || !(b - a > narrowest) || !(m > a && m < b) {
+            let splits = depth < DEPTH && b - a > narrowest && m > a && m < b;
+            if crossed {
+                // A sign change brackets a root, but not necessarily the first one: three
+                // crossings have one too. Refined only where `G` is monotonic (one root)
+                // or the piece cannot be split further.
+                if !splits || self.monotonic(a, b) {
+                    return Some(self.refine(a, ga, b, gb));
+                }
+                known = Some((a, ga, b, gb));
+            } else if !splits || ga.abs() + gb.abs() > self.slope_bound(a, b) * (b - a) {
                 // No root in [a, b]: on to the right half left behind.
                 if depth == 0 {
                     return None;

@@ -293,15 +293,20 @@ pub(crate) fn read_material<S: Scalar>(input: &mut Reader<'_>) -> Result<Materia
     let ambient = input.vec3();
     let diffuse = input.vec3();
     let specular: Vec3<S> = input.vec3();
+    let shininess = input.number();
+    let transparency = input.number();
+    let filter: Vec3<S> = input.vec3();
     Ok(Material {
         name,
         ambient,
         diffuse,
         specular,
-        shininess: input.number(),
-        transparency: input.number(),
-        filter: input.vec3(),
+        shininess,
+        transparency,
+        filter,
         reflects: specular != Vec3::ZERO,
+        mirror_weight: specular.max_component(),
+        filter_weight: filter.max_component(),
     })
 }
 

@@ -91,6 +91,10 @@ pub struct Material<S> {
     pub filter: Vec3<S>,
     /// `specular` is not zero: kept so that a batch asks once, not per channel.
     pub(crate) reflects: bool,
+    /// The strongest channel of `specular`: a mirror ray's weight in what it adds.
+    pub(crate) mirror_weight: S,
+    /// The strongest channel of `filter`: a transmitted ray's weight in what it adds.
+    pub(crate) filter_weight: S,
 }
 
 impl<S: Scalar> Material<S> {
@@ -151,6 +155,8 @@ impl<S: Scalar> Material<S> {
             transparency,
             filter,
             reflects: specular != Vec3::ZERO,
+            mirror_weight: specular.max_component(),
+            filter_weight: filter.max_component(),
         })
     }
 

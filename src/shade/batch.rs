@@ -46,6 +46,8 @@ struct Lane<S> {
     /// The distance travelled before the ray.
     total: S,
     depth: u8,
+    /// Its weight in its pixel (see [`Onward::leaving`]).
+    weight: S,
     /// The object it meets first and where.
     hit: Option<(usize, S)>,
 }
@@ -72,6 +74,7 @@ impl<S: Scalar> Shader<'_, S> {
                     left: None,
                     total: S::ZERO,
                     depth: 0,
+                    weight: S::ONE,
                     hit: None,
                 });
             });
@@ -89,7 +92,9 @@ impl<S: Scalar> Shader<'_, S> {
     fn trace_lanes(&self, lanes: &mut [Option<Lane<S>>; BATCH], out: &mut [Vec3<S>; BATCH]) {
         if lanes.iter().flatten().count() < SPARSE {
             for (c, lane) in out.iter_mut().zip(lanes.iter()) {
-                *c = lane.map_or(Vec3::ZERO, |l| self.trace(&l.ray, l.total, l.left, l.depth));
+                *c = lane.map_or(Vec3::ZERO, |l| {
+                    self.trace_weighted(&l.ray, l.total, l.left, l.depth, l.weight)
+                });
             }
             return;
         }
@@ -153,7 +158,14 @@ impl<S: Scalar> Shader<'_, S> {
                     *shade = Some(Shade {
                         ray: &lane.ray,
                         surface,
-                        onward: super::onward(&lane.ray, index, t, lane.total, lane.depth),
+                        onward: super::onward(
+                            &lane.ray,
+                            index,
+                            t,
+                            lane.total,
+                            lane.depth,
+                            lane.weight,
+                        ),
                     });
                 }
             }
@@ -164,10 +176,11 @@ impl<S: Scalar> Shader<'_, S> {
         // (Each stage asked first, so that a render without it does not even clear its
         // lanes.)
         if self.any_mirrors() {
-            self.leaving(&shades, out, |s, m| s.mirrors(m), mirror_ray, with_mirror);
+            let mirrors = |s: &Self, m: &Material<S>| s.mirrors(m).then_some(m.mirror_weight);
+            self.leaving(&shades, out, mirrors, mirror_ray, with_mirror);
         }
         if self.any_transmits() {
-            let through = |s: &Self, m: &Material<S>| s.transmits(m);
+            let through = |s: &Self, m: &Material<S>| s.transmits(m).then_some(m.filter_weight);
             self.leaving(&shades, out, through, through_ray, with_behind);
         }
     }
@@ -289,37 +302,43 @@ impl<S: Scalar> Shader<'_, S> {
         }
     }
 
-    /// Traces the rays leaving the shaded hits whose material `leaves` says so (`ray` makes
-    /// them) and adds what they see to their colours in `out` (as `add` says).
+    /// Traces the rays leaving the shaded hits whose material `leaves` says so (it gives
+    /// their coefficient's strongest channel; `ray` makes them) and adds what they see to
+    /// their colours in `out` (as `add` says; black for a negligible ray, not traced).
     #[inline(always)]
     fn leaving(
         &self,
         shaded: &Shaded<'_, '_, S>,
         out: &mut [Vec3<S>; BATCH],
-        leaves: impl Fn(&Self, &Material<S>) -> bool,
+        leaves: impl Fn(&Self, &Material<S>) -> Option<S>,
         ray: impl Fn(&Ray<S>, &Hit<S>, &Onward<S>) -> Ray<S>,
         add: impl Fn(Vec3<S>, Vec3<S>, &Material<S>) -> Vec3<S>,
     ) {
         let mut next = [None; BATCH];
-        let mut any = false;
+        let (mut any, mut traced) = (false, false);
         for (next, shade) in next.iter_mut().zip(shaded) {
             if let Some(shade) = shade
-                && leaves(self, shade.surface.material)
+                && let Some(coefficient) = leaves(self, shade.surface.material)
             {
-                let leaving = ray(shade.ray, &shade.surface.hit, &shade.onward);
-                *next = Some(follow(leaving, &shade.onward));
                 any = true;
+                if let Some(weight) = shade.onward.leaving(coefficient) {
+                    let leaving = ray(shade.ray, &shade.surface.hit, &shade.onward);
+                    *next = Some(follow(leaving, &shade.onward, weight));
+                    traced = true;
+                }
             }
         }
         if !any {
             return;
         }
         let mut seen = [Vec3::ZERO; BATCH];
-        self.trace_lanes(&mut next, &mut seen);
+        if traced {
+            self.trace_lanes(&mut next, &mut seen);
+        }
         // The same test as above (`trace_lanes` drops the lanes it stops: they add black).
         for ((c, seen), shade) in out.iter_mut().zip(&seen).zip(shaded) {
             if let Some(shade) = shade
-                && leaves(self, shade.surface.material)
+                && leaves(self, shade.surface.material).is_some()
             {
                 *c = add(*c, *seen, shade.surface.material);
             }
@@ -370,13 +389,14 @@ fn lit<'a, 's, S: Scalar>(
         .filter_map(|(c, shade)| Some((c, shade.as_ref()?)))
 }
 
-/// The lane of a ray leaving a hit, as `onward` says (as [`Shader::follow`]).
-fn follow<S: Scalar>(ray: Ray<S>, onward: &Onward<S>) -> Lane<S> {
+/// The lane of a ray of `weight` leaving a hit, as `onward` says (as [`Shader::follow`]).
+fn follow<S: Scalar>(ray: Ray<S>, onward: &Onward<S>, weight: S) -> Lane<S> {
     Lane {
         ray,
         left: Some(onward.index),
         total: onward.total,
         depth: onward.depth + 1,
+        weight,
         hit: None,
     }
 }

@@ -17,6 +17,20 @@
 //! tiny steps), so [`MAX_DEPTH`] does: at most `MAX_DEPTH + 1` nested `trace` frames, each
 //! with two recursive calls at most. The illumination runs in its own function so its locals
 //! are not part of every recursive frame.
+//!
+//! # Negligible rays
+//!
+//! Two calls a hit make a tree of up to 2^16 rays a pixel where every surface both mirrors
+//! and lets light through, though most of them may count for nothing: with `transparency
+//! 1e-6`, what a ray through adds is multiplied by a filter of at most 1e-6. So each ray
+//! carries its weight in its pixel, the product of the strongest channels of the mirror
+//! (`specular`) and filter coefficients along its path, and a ray whose weight is below
+//! [`Scalar::NEGLIGIBLE`] (2^-16, one step of I16F16) is not traced: it adds black. What
+//! that leaves out of a pixel is the weight times what the ray would have seen, so below
+//! 1/256 of a level wherever that is below 1 (where the picture saturates), and always
+//! below what I16F16 can hold. The cost is the number of paths worth 2^-16 of their pixel
+//! or more: one mirror chain for a barely transparent mirror (issue 36: a 2^16 tree before).
+//! The course's scenes have no such rays: their images are the same bit for bit.
 
 use crate::bvh::Tree;
 use crate::light::Light;
@@ -192,7 +206,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         // Nothing travelled yet: no bound to check.
         let found = closest_hit_among(self.objects, &among, ray, None, S::UNBOUNDED, self.z_limit);
         match found {
-            Some((index, t)) => self.shade(ray, index, t, S::ZERO, 0),
+            Some((index, t)) => self.shade(ray, index, t, S::ZERO, 0, S::ONE),
             None => Vec3::ZERO,
         }
     }
@@ -201,7 +215,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// tests were prepared (see [`crate::object::RowTest`]).
     pub fn primary_in_row(&self, ray: &Ray<S>, row: &[RowEntry<S>]) -> Vec3<S> {
         match closest_hit_in_row(self.objects, row, self.tree(), ray, self.z_limit) {
-            Some((index, t)) => self.shade(ray, index, t, S::ZERO, 0),
+            Some((index, t)) => self.shade(ray, index, t, S::ZERO, 0, S::ONE),
             None => Vec3::ZERO,
         }
     }
@@ -245,7 +259,19 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// The course's `trace`: `total` is the distance travelled so far, `left_from` the object
     /// the ray leaves.
     pub fn trace(&self, ray: &Ray<S>, total: S, left_from: Option<usize>, depth: u8) -> Vec3<S> {
-        self.trace_among(ray, &self.among, total, left_from, depth)
+        self.trace_weighted(ray, total, left_from, depth, S::ONE)
+    }
+
+    /// [`trace`](Self::trace) for a ray of `weight` in its pixel (see the module's docs).
+    pub(crate) fn trace_weighted(
+        &self,
+        ray: &Ray<S>,
+        total: S,
+        left_from: Option<usize>,
+        depth: u8,
+        weight: S,
+    ) -> Vec3<S> {
+        self.trace_among(ray, &self.among, total, left_from, depth, weight)
     }
 
     fn trace_among(
@@ -255,7 +281,10 @@ impl<'s, S: Scalar> Shader<'s, S> {
         total: S,
         left_from: Option<usize>,
         depth: u8,
+        weight: S,
     ) -> Vec3<S> {
+        #[cfg(all(test, feature = "std"))]
+        tests::TRACED.with(|traced| traced.set(traced.get() + 1));
         if total > self.max_distance || depth > MAX_DEPTH {
             return Vec3::ZERO;
         }
@@ -268,15 +297,16 @@ impl<'s, S: Scalar> Shader<'s, S> {
             self.z_limit,
         );
         match found {
-            Some((index, t)) => self.shade(ray, index, t, total, depth),
+            Some((index, t)) => self.shade(ray, index, t, total, depth, weight),
             None => Vec3::ZERO,
         }
     }
 
     /// The colour where `ray`, having come `total` so far, meets object `index` at `t`:
-    /// the object's own light, then what its mirror and its transparency let through.
+    /// the object's own light, then what its mirror and its transparency let through
+    /// (`depth` and `weight`: the ray's, see the module's docs).
     #[inline(never)]
-    fn shade(&self, ray: &Ray<S>, index: usize, t: S, total: S, depth: u8) -> Vec3<S> {
+    fn shade(&self, ray: &Ray<S>, index: usize, t: S, total: S, depth: u8, weight: S) -> Vec3<S> {
         let Some(object) = self.objects.get(index) else {
             return Vec3::ZERO;
         };
@@ -286,13 +316,14 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let Some(surface) = found.as_ref() else {
             return Vec3::ZERO;
         };
-        let (c, onward) = self.own_light(ray, surface, index, t, total, depth);
+        let (c, onward) = self.own_light(ray, surface, index, t, total, depth, weight);
         self.beyond(c, ray, &surface.hit, surface.material, &onward)
     }
 
     /// The surface's own light where `ray`, having come `total` so far, meets it (object
     /// `index`) at `t`, divided by the distance travelled; and what the rays leaving it
     /// need.
+    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn own_light(
         &self,
@@ -302,8 +333,9 @@ impl<'s, S: Scalar> Shader<'s, S> {
         t: S,
         total: S,
         depth: u8,
+        weight: S,
     ) -> (Vec3<S>, Onward<S>) {
-        let onward = onward(ray, index, t, total, depth);
+        let onward = onward(ray, index, t, total, depth, weight);
         let c = if S::COURSE_ORDER {
             self.local(surface, index, ray.base) / onward.total
         } else {
@@ -324,8 +356,11 @@ impl<'s, S: Scalar> Shader<'s, S> {
         onward: &Onward<S>,
     ) -> Vec3<S> {
         if self.mirrors(material) {
-            let reflected = mirror_ray(ray, hit, onward);
-            c = with_mirror(c, self.follow(&reflected, onward), material);
+            let seen = match onward.leaving(material.mirror_weight) {
+                Some(weight) => self.follow(&mirror_ray(ray, hit, onward), onward, weight),
+                None => Vec3::ZERO,
+            };
+            c = with_mirror(c, seen, material);
         }
         self.through(c, ray, hit, material, onward)
     }
@@ -341,7 +376,10 @@ impl<'s, S: Scalar> Shader<'s, S> {
         onward: &Onward<S>,
     ) -> Vec3<S> {
         if self.transmits(material) {
-            let behind = self.follow(&through_ray(ray, hit, onward), onward);
+            let behind = match onward.leaving(material.filter_weight) {
+                Some(weight) => self.follow(&through_ray(ray, hit, onward), onward, weight),
+                None => Vec3::ZERO,
+            };
             return with_behind(c, behind, material);
         }
         c
@@ -372,10 +410,16 @@ impl<'s, S: Scalar> Shader<'s, S> {
         cfg!(feature = "transparency") && self.stages.transparency
     }
 
-    /// The colour along a ray leaving a hit, as `onward` says.
+    /// The colour along a ray of `weight` leaving a hit, as `onward` says.
     #[inline(always)]
-    fn follow(&self, ray: &Ray<S>, onward: &Onward<S>) -> Vec3<S> {
-        self.trace(ray, onward.total, Some(onward.index), onward.depth + 1)
+    fn follow(&self, ray: &Ray<S>, onward: &Onward<S>, weight: S) -> Vec3<S> {
+        self.trace_weighted(
+            ray,
+            onward.total,
+            Some(onward.index),
+            onward.depth + 1,
+            weight,
+        )
     }
 
     /// Ambient plus every light's contribution, before the division by distance: the
@@ -793,7 +837,14 @@ fn with_ambient<S: Scalar>(
 
 /// What the rays leaving object `index`, met at `t` by `ray` after `total`, need.
 #[inline(always)]
-fn onward<S: Scalar>(ray: &Ray<S>, index: usize, t: S, total: S, depth: u8) -> Onward<S> {
+fn onward<S: Scalar>(
+    ray: &Ray<S>,
+    index: usize,
+    t: S,
+    total: S,
+    depth: u8,
+    weight: S,
+) -> Onward<S> {
     // The distance travelled: `t` for the unit rays of f64, `t |dir|` otherwise.
     let (len, travelled) = if S::COURSE_ORDER {
         (S::ONE, t)
@@ -806,6 +857,7 @@ fn onward<S: Scalar>(ray: &Ray<S>, index: usize, t: S, total: S, depth: u8) -> O
         len,
         total: total + travelled,
         depth,
+        weight,
     }
 }
 
@@ -907,6 +959,19 @@ struct Onward<S> {
     len: S,
     total: S,
     depth: u8,
+    /// The weight in its pixel of the ray that met the hit.
+    weight: S,
+}
+
+impl<S: Scalar> Onward<S> {
+    /// The weight of a ray leaving the hit through a mirror or filter of strongest channel
+    /// `coefficient`; `None` if it is negligible (below [`Scalar::NEGLIGIBLE`]): the ray
+    /// is not traced and adds black.
+    #[inline(always)]
+    fn leaving(&self, coefficient: S) -> Option<S> {
+        let weight = self.weight * coefficient;
+        (weight >= S::NEGLIGIBLE).then_some(weight)
+    }
 }
 
 /// Adds the diffuse light `lit` of a light that shines on a hit, times `cos_d / (d_squared
@@ -983,6 +1048,76 @@ mod tests {
     }
 
     const OVERHEAD: LightDef<'static> = LightDef::point("l", [0.0, 4.0, 0.0], [1.0, 1.0, 1.0]);
+
+    #[cfg(feature = "std")]
+    std::thread_local! {
+        /// `trace` calls on this thread (a test's own count: tests run on threads of their
+        /// own).
+        pub(super) static TRACED: core::cell::Cell<u32> = const { core::cell::Cell::new(0) };
+    }
+
+    /// Rays traced for one primary ray between four glass mirrors of `transparency`, two
+    /// below it and two above, 1/2 apart: every hit sends a mirror ray and a ray through,
+    /// each of which meets another of the planes, so without a bound the tree has every
+    /// path to depth 16 (65,535 rays).
+    #[cfg(feature = "std")]
+    fn rays_between_mirrors(transparency: f64) -> (u32, Vec3<f64>) {
+        let glass = [MaterialDef::new("m")
+            .ambient([0.2; 3])
+            .diffuse([1.0, 0.8, 0.6])
+            .specular(0.93)
+            .transparency(transparency)];
+        let up = [0.0, 1.0, 0.0];
+        let down = [0.0, -1.0, 0.0];
+        let planes = [
+            ObjectDef::plane("floor", "m", up, [0.0, 0.0, 0.0]),
+            ObjectDef::plane("ceiling", "m", down, [0.0, 1.0, 0.0]),
+            ObjectDef::plane("cellar", "m", up, [0.0, -0.5, 0.0]),
+            ObjectDef::plane("attic", "m", down, [0.0, 1.5, 0.0]),
+        ];
+        let light = LightDef::point("l", [0.0, 0.5, -2.0], [1.0, 1.0, 1.0]);
+        let scene: Scene<'_, f64> =
+            Scene::from_defs(&CAMERA, &glass, &[], &[light], &planes).unwrap();
+        let shader = Shader::new(scene.objects(), scene.lights(), scene.palette());
+        let ray = Ray::new(
+            Vec3::new(0.0, 0.5, 0.0),
+            Vec3::new(0.0, -1.0, -1.0).unit().unwrap(),
+        );
+        TRACED.with(|traced| traced.set(0));
+        let c = shader.primary(&ray);
+        (TRACED.with(|traced| traced.get()), c)
+    }
+
+    #[test]
+    #[cfg(feature = "std")]
+    fn negligible_rays_are_not_traced() {
+        // Issue 36: `transparency 1e-6` made every hit's ray through worth 1e-6 of the
+        // pixel, and each of them made two more. Now a ray worth less than 2^-16 of its pixel
+        // is not traced: the mirror chain alone is (one ray a bounce to depth 16).
+        let (barely, seen) = rays_between_mirrors(1e-6);
+        let (opaque, opaque_seen) = rays_between_mirrors(0.0);
+        assert!(
+            barely <= opaque,
+            "{barely} rays against {opaque} for opaque mirrors"
+        );
+        // One call a bounce, the last finding it has gone too deep.
+        assert!((1..=MAX_DEPTH as u32 + 1).contains(&opaque), "{opaque}");
+        // The untraced rays add black: each hit's own light is kept at (1 - 1e-6), so the
+        // colour is the opaque mirrors' to within 17 such factors.
+        let lost = (opaque_seen - seen).mul_each(Vec3::new(
+            1.0 / opaque_seen.x,
+            1.0 / opaque_seen.y,
+            1.0 / opaque_seen.z,
+        ));
+        assert!(
+            (-lost).max_component() < 0.0 && lost.max_component() < 17e-6,
+            "{lost:?}"
+        );
+        // A filter of 1/100 is traced: one ray through, then its own mirror chain (its
+        // rays through, 1e-4 of the pixel, are traced once more, and theirs are not).
+        let (clear, _) = rays_between_mirrors(0.01);
+        assert!(clear > 4 * opaque, "{clear} rays against {opaque}");
+    }
 
     #[test]
     fn diffuse_falls_off_linearly_and_divides_by_distance_travelled() {

@@ -86,6 +86,8 @@ struct Level<'s, S: Scalar> {
     transparent: bool,
     /// Whether some lights' shadow rays are tested by each pixel.
     shadows_per_pixel: bool,
+    /// The weight of the level's rays in their pixels (see [`Onward::leaving`]).
+    weight: S,
 }
 
 /// The rays of one row meeting one plain plane at one `t`, and their mirror rays the next
@@ -149,6 +151,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let mut ray = Ray::new(origin.eye, Vec3::new(S::ZERO, origin.dy, origin.dz));
         let all_ignore_x = self.all_ignore_x();
         let mut levels = heapless::Vec::new();
+        let mut weight = S::ONE;
         loop {
             let object = self.objects.get(index)?;
             if !object.surface_is_uniform() {
@@ -176,8 +179,11 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 ambient: !surface.ambient.is_zero(),
                 transparent: self.transmits(material),
                 shadows_per_pixel: shadow_per_pixel,
+                weight,
             };
-            if !self.mirrors(material) {
+            // A negligible mirror ray adds black: no mirror, the same sum.
+            let mirror_weight = weight * material.mirror_weight;
+            if !self.mirrors(material) || !(mirror_weight >= S::NEGLIGIBLE) {
                 // Cannot fail: a level is added only below the capacity.
                 levels.push(level).ok()?;
                 break;
@@ -206,6 +212,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
             level.mirror = Mirror::Level;
             levels.push(level).ok()?;
             (index, t) = (next_index, next_t);
+            weight = mirror_weight;
         }
         Some(RowShading { levels, tested })
     }
@@ -288,7 +295,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let first = row.levels.first().map(|level| level.index);
         match closest_hit_in_row(self.objects, tests, None, ray, self.z_limit) {
             Some((index, _)) if Some(index) == first => self.shade_testing_shadows(row, ray),
-            Some((index, t)) => self.shade(ray, index, t, S::ZERO, 0),
+            Some((index, t)) => self.shade(ray, index, t, S::ZERO, 0, S::ONE),
             None => Vec3::ZERO,
         }
     }
@@ -336,11 +343,15 @@ impl<'s, S: Scalar> Shader<'s, S> {
             len,
             total,
             depth,
+            weight: level.weight,
         };
         if cfg!(feature = "reflection") && level.mirror != Mirror::None {
             let reflected = Ray::with_length(hit.point, reflect(ray.dir, hit.normal), len);
             let seen = match level.mirror {
-                Mirror::Trace => self.follow(&reflected, &onward),
+                Mirror::Trace => match onward.leaving(material.mirror_weight) {
+                    Some(weight) => self.follow(&reflected, &onward, weight),
+                    None => Vec3::ZERO,
+                },
                 // Where `trace` stops, or finds nothing.
                 _ if total > self.max_distance || depth + 1 > MAX_DEPTH => Vec3::ZERO,
                 Mirror::Level => self.deeper_level(deeper, &reflected, total, depth + 1),

@@ -596,6 +596,23 @@ pub enum ErrorKind {
         /// The number type's name.
         number_type: &'static str,
     },
+    /// A length that falls below the number type's resolution only because the scene had
+    /// to be scaled down to bring a far coordinate within the type's range: the far value
+    /// is the cause, and the error names it.
+    ScaledBelowResolution {
+        /// The attribute that became too small.
+        attr: Attr,
+        /// The number type's name.
+        number_type: &'static str,
+        /// The attribute holding the scene's largest coordinate.
+        largest_at: Attr,
+        /// That coordinate's size, rounded to a whole number (saturating).
+        largest: u64,
+        /// The type's range for coordinates: `2^range_log2`.
+        range_log2: u16,
+        /// The scene was scaled by `2^-scaled_log2`.
+        scaled_log2: u16,
+    },
     /// Neighbouring pixels' rays differ in direction by less than the number type can hold
     /// (a tiny `worlddim` spread over many pixels, seen from afar): rows or columns would
     /// merge.
@@ -738,6 +755,7 @@ impl ErrorKind {
             | ErrorKind::NonFiniteValue { attr }
             | ErrorKind::BeyondRange { attr, .. }
             | ErrorKind::TooSmallForType { attr, .. }
+            | ErrorKind::ScaledBelowResolution { attr, .. }
             | ErrorKind::UndefinedMaterial { attr, .. }
             | ErrorKind::OutOfRange { attr, .. } => Some(attr),
             ErrorKind::PixeldimTooSmall
@@ -832,6 +850,17 @@ impl fmt::Display for ErrorKind {
             ErrorKind::TooSmallForType { attr, number_type } => write!(
                 f,
                 "`{attr}` is too small for {number_type}, the number type of this build (below its resolution once the scene is scaled to its range)"
+            ),
+            ErrorKind::ScaledBelowResolution {
+                attr,
+                number_type,
+                largest_at,
+                largest,
+                range_log2,
+                scaled_log2,
+            } => write!(
+                f,
+                "`{largest_at}` is {largest} from the origin, beyond {number_type}'s range of 2^{range_log2}: scaled by 2^-{scaled_log2} to fit, the scene's `{attr}` falls below {number_type}'s resolution (bring the scene nearer the origin, or use a wider number type)"
             ),
             ErrorKind::PixelsTooFine { number_type } => write!(
                 f,

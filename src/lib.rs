@@ -40,6 +40,7 @@
 //! | `reflection`, `transparency`, `glint` | in `full` | mirror rays (`specular`), transmission and filtered shadows (`transparency`), Blinn-Phong glints (`shininess`; needs `reflection`) |
 //! | `projector`, `revsurf` | in `full` | projectors (lights that shine a texture) and surfaces of revolution |
 //! | `antialias` | in `full` | anti-aliasing at fixed sample positions (`render::Antialias`): a grid of samples per pixel, or only on edges |
+//! | `warnings` | in `full` | warnings about ill-posed scenes ([`Scene::warnings`], [`warning`]): coincident surfaces, a light on a surface or at the eye, a surface through the eye, the eye inside an object |
 //! | `sdl` | no | `examples/simulator.rs` opens an SDL window |
 //!
 //! Without default features the crate is `#![no_std]`, has no `alloc`, and builds for
@@ -156,6 +157,8 @@ pub mod scene;
 pub mod shade;
 pub mod texture;
 pub mod vec3;
+#[cfg(feature = "warnings")]
+pub mod warning;
 
 #[cfg(feature = "std")]
 pub mod host;

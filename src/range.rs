@@ -26,6 +26,7 @@
 
 #[cfg(feature = "parser")]
 use crate::error::Error;
+use crate::error::{Attr, ErrorKind};
 use crate::object::ShapeDef;
 #[cfg(feature = "parser")]
 use crate::parse::grammar::walk;
@@ -48,6 +49,9 @@ pub struct Extent {
     pub emission: f64,
     /// The largest sphere radius (its square is kept).
     pub radius: f64,
+    /// The attribute whose coordinate is [`largest`](Self::largest) (for errors that
+    /// scaling causes).
+    pub largest_at: Option<Attr>,
 }
 
 impl Extent {
@@ -59,15 +63,20 @@ impl Extent {
         diffuse: 0.0,
         emission: 0.0,
         radius: 0.0,
+        largest_at: None,
     };
 
     fn brightest(values: [f64; 3]) -> f64 {
         values.iter().fold(0.0, |m: f64, v| m.max(libm::fabs(*v)))
     }
 
-    fn point(&mut self, p: [f64; 3], reach: f64) {
+    fn point(&mut self, p: [f64; 3], reach: f64, attr: Attr) {
         for c in p {
-            self.largest = self.largest.max(libm::fabs(c) + reach);
+            let far = libm::fabs(c) + reach;
+            if far > self.largest {
+                self.largest = far;
+                self.largest_at = Some(attr);
+            }
         }
     }
 
@@ -79,19 +88,19 @@ impl Extent {
     pub(crate) fn include(&mut self, item: &Item<'_>) {
         match item {
             Item::Camera(c) => {
-                self.point(c.viewpoint, 0.0);
-                self.point([c.worlddim[0], c.worlddim[1], 0.0], 0.0);
+                self.point(c.viewpoint, 0.0, Attr::Viewpoint);
+                self.point([c.worlddim[0], c.worlddim[1], 0.0], 0.0, Attr::Worlddim);
                 c.worlddim.iter().for_each(|&w| self.length(w));
             }
             Item::Light(l) => {
-                self.point(l.location, 0.0);
+                self.point(l.location, 0.0, Attr::Location);
                 self.emission = self.emission.max(Self::brightest(l.emissivity));
                 if let Some(spot) = &l.spot {
-                    self.point(spot.point, 0.0);
+                    self.point(spot.point, 0.0, Attr::Point);
                 }
                 if let Some(slide) = &l.slide {
                     let r = &slide.rect;
-                    self.point(r.point, r.dimensions[0] + r.dimensions[1]);
+                    self.point(r.point, r.dimensions[0] + r.dimensions[1], Attr::Point);
                     r.dimensions.iter().for_each(|&d| self.length(d));
                 }
             }
@@ -101,20 +110,20 @@ impl Extent {
             }
             Item::Texture { .. } => {}
             Item::Object(o) => match &o.shape {
-                ShapeDef::Plane(p) => self.point(p.point, 0.0),
+                ShapeDef::Plane(p) => self.point(p.point, 0.0, Attr::Point),
                 ShapeDef::Sphere(s) => {
-                    self.point(s.center, s.radius);
+                    self.point(s.center, s.radius, Attr::Center);
                     self.length(s.radius);
                     self.radius = self.radius.max(s.radius);
                 }
                 ShapeDef::RevSurf(r) => {
                     let reach = 4.0 + libm::fabs(r.height);
-                    self.point(r.base, reach);
+                    self.point(r.base, reach, Attr::Base);
                     self.length(r.height);
                     self.radius = self.radius.max(reach);
                 }
                 ShapeDef::FPlane(r) | ShapeDef::TiledPlane(r, _) | ShapeDef::TexPlane(r, _, _) => {
-                    self.point(r.point, r.dimensions[0] + r.dimensions[1]);
+                    self.point(r.point, r.dimensions[0] + r.dimensions[1], Attr::Point);
                     r.dimensions.iter().for_each(|&d| self.length(d));
                 }
             },
@@ -146,10 +155,47 @@ impl Extent {
         scale
     }
 
+    /// `kind`, a load error in a scene scaled by `scale`, with its cause: a length below
+    /// `S`'s resolution in a scene that was scaled down is the far coordinate's doing.
+    pub(crate) fn explain<S: Scalar>(&self, kind: ErrorKind, scale: f64) -> ErrorKind {
+        let (ErrorKind::TooSmallForType { attr, number_type }, Some(largest_at)) =
+            (kind, self.largest_at)
+        else {
+            return kind;
+        };
+        if !(scale < 1.0) {
+            return kind;
+        }
+        ErrorKind::ScaledBelowResolution {
+            attr,
+            number_type,
+            largest_at,
+            largest: whole(self.largest),
+            range_log2: log2(S::MAX_EXTENT),
+            scaled_log2: log2(1.0 / scale),
+        }
+    }
+
     /// Whether every length stays at or above `S`'s resolution once scaled.
     pub fn fits<S: Scalar>(&self) -> bool {
         self.smallest == f64::INFINITY || self.smallest * self.scale_for::<S>() >= S::MIN_FEATURE
     }
+}
+
+/// `x` rounded to a whole number, saturating (`as` saturates and maps NaN to 0).
+fn whole(x: f64) -> u64 {
+    libm::round(x) as u64
+}
+
+/// The exponent of a power of two, `x = 2^k` (the largest `k` with `2^k <= x`).
+fn log2(x: f64) -> u16 {
+    let mut k = 0;
+    let mut p = 2.0;
+    while p <= x && k < 2048 {
+        p *= 2.0;
+        k += 1;
+    }
+    k
 }
 
 /// Measures a scene file (without loading textures).

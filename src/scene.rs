@@ -382,20 +382,22 @@ impl<
         objects
             .iter()
             .for_each(|o| extent.include(&Item::Object(*o)));
-        self.clear(extent.scale_for::<S>());
-        self.set_camera(camera)?;
+        let scale = extent.scale_for::<S>();
+        self.clear(scale);
+        let explain = |kind: ErrorKind| extent.explain::<S>(kind, scale);
+        self.set_camera(camera).map_err(explain)?;
         for def in materials {
-            self.add_material(def)?;
+            self.add_material(def).map_err(explain)?;
         }
         for def in textures {
-            self.add_texture(def)?;
+            self.add_texture(def).map_err(explain)?;
         }
         // After the textures: a projector names one.
         for def in lights {
-            self.add_light(def)?;
+            self.add_light(def).map_err(explain)?;
         }
         for def in objects {
-            self.add_object(def)?;
+            self.add_object(def).map_err(explain)?;
         }
         Ok(())
     }
@@ -561,6 +563,16 @@ impl<
     /// The lengths shading compares with, at the scene's scale.
     pub fn limits(&self) -> Limits<S> {
         self.limits.unwrap_or_else(Limits::unscaled)
+    }
+
+    /// Calls `each` with every [warning](crate::warning) about the scene: configurations
+    /// whose picture rounding decides (coincident surfaces, a light on a surface or at the
+    /// eye, a surface through the eye, the eye inside an object). The scene renders all the
+    /// same; `microray check` prints them.
+    #[cfg(feature = "warnings")]
+    pub fn warnings<'s>(&'s self, each: impl FnMut(crate::warning::Warning<'s>)) {
+        let eye = self.camera.viewpoint();
+        crate::warning::warnings(eye, &self.lights, &self.objects, each);
     }
 
     /// The nearest hit with `t > 0` over all objects, skipping object `skip` (the one the

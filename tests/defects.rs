@@ -114,3 +114,125 @@ fn a_surface_of_revolution_finds_its_nearest_crossing_whatever_is_tested_first()
     assert!((t - 5.856).abs() < 0.01, "{t}");
     assert!(checked > 400, "{checked}");
 }
+
+/// The warnings of a scene, as text.
+fn warnings(text: &[u8]) -> Vec<String> {
+    let scene = load::<f64>(text);
+    let mut found = Vec::new();
+    scene.warnings(|w| found.push(w.to_string()));
+    found
+}
+
+#[test]
+fn ill_posed_scenes_are_flagged_and_well_posed_ones_are_not() {
+    // Issue 36, item 3: two identical planes shade 384 of 3,072 pixels differently from
+    // one plane in f64 itself. The picture is rounding's choice: a warning says so.
+    let one = b"camera c { pixeldim 64 48 worlddim 8 6 viewpoint 4 3 6 }
+        material grey { ambient 0.2 0.2 0.2 diffuse 2 2 2 }
+        material red { ambient 0.3 0 0 diffuse 3 0 0 }
+        light lamp { location 2 5 2 emissivity 4 4 4 }
+        plane floor { material grey normal 0 1 0 point 0 0 0 }"
+        .to_vec();
+    let mut two = one.clone();
+    two.extend_from_slice(b" plane again { material red normal 0 2 0 point 5 0 -3 }");
+    let (single, double) = (rgb::<f64>(&one, true), rgb::<f64>(&two, true));
+    assert!(
+        differing(&single, &double) > 0,
+        "the tie must show to need a warning"
+    );
+    assert_eq!(warnings(&one), Vec::<String>::new());
+    assert_eq!(
+        warnings(&two),
+        ["plane `floor` and plane `again` coincide: which one a ray meets is decided by rounding"]
+    );
+    // Each other kind, from the configurations the random scenes met.
+    let mut all = one.clone();
+    all.extend_from_slice(
+        b" light on_floor { location 1 0 -2 emissivity 1 1 1 }
+           light at_eye { location 4 3 6 emissivity 1 1 1 }
+           plane through_eye { material grey normal 1 0 0 point 4 0 0 }
+           sphere around_eye { material grey center 4 3 5.5 radius 1 }
+           sphere twin { material red center 4 3 5.5 radius 1 }",
+    );
+    let found = warnings(&all);
+    for expected in [
+        "plane `through_eye` passes through the eye",
+        "sphere `around_eye` has the eye inside it",
+        "sphere `around_eye` and sphere `twin` coincide",
+        "light `on_floor` is on the surface of plane `floor`",
+        "light `at_eye` is at the eye",
+        "light `at_eye` is on the surface of plane `through_eye`",
+    ] {
+        assert!(
+            found.iter().any(|w| w.starts_with(expected)),
+            "{expected}: {found:#?}"
+        );
+    }
+    assert_eq!(found.len(), 7, "{found:#?}");
+    // Near is not on: a light 1e-3 above the floor, a plane 1e-3 from the eye.
+    let mut near = one.clone();
+    near.extend_from_slice(
+        b" light above { location 1 0.001 -2 emissivity 1 1 1 }
+           plane beside { material grey normal 1 0 0 point 4.001 0 0 }",
+    );
+    assert_eq!(warnings(&near), Vec::<String>::new());
+}
+
+#[test]
+fn no_project_stress_or_course_scene_is_flagged() {
+    for path in common::all_scenes_with("stress") {
+        let text = std::fs::read(&path).unwrap();
+        let scene: HostScene<'static, f64> =
+            parse_scene(&text, microray::host::texture_files(path.parent().unwrap())).unwrap();
+        let mut found = Vec::new();
+        scene.warnings(|w| found.push(w.to_string()));
+        assert!(found.is_empty(), "{}: {found:?}", path.display());
+    }
+}
+
+#[test]
+fn a_length_too_small_after_scaling_names_the_far_value() {
+    // Issue 36, item 5: I16F16 said "`worlddim` must be greater than 0" where a far value
+    // forced the scene to be scaled until the window rounded to nothing.
+    let text = b"camera c { pixeldim 64 48 worlddim 61.29 29.47 viewpoint 30 15 10 }
+        material m { diffuse 1 1 1 }
+        sphere far { material m center 30 15 -1e12 radius 5 }";
+    let error = match parse_scene::<I16F16, 64, 64, 32, 16, 8192>(text, no_textures) {
+        Err(e) => e,
+        Ok(_) => panic!("i16f16 cannot hold this scene"),
+    };
+    assert!(
+        matches!(
+            error.kind,
+            microray::ErrorKind::ScaledBelowResolution {
+                attr: microray::error::Attr::Worlddim,
+                largest_at: microray::error::Attr::Center,
+                largest: 1_000_000_000_005,
+                range_log2: 13,
+                scaled_log2: 27,
+                ..
+            }
+        ),
+        "{error:?}"
+    );
+    assert!(
+        error
+            .to_string()
+            .contains("`center` is 1000000000005 from the origin"),
+        "{error}"
+    );
+    // f32 and f64 hold it.
+    assert!(parse_scene::<f32, 64, 64, 32, 16, 8192>(text, no_textures).is_ok());
+    // A positive length that rounds to zero is too small, not "not positive".
+    let tiny = b"camera c { pixeldim 8 6 worlddim 8 6 viewpoint 4 3 3 }
+        material m { diffuse 1 1 1 }
+        sphere dot { material m center 4 3 -1 radius 0.000001 }";
+    let error = match parse_scene::<I16F16, 64, 64, 32, 16, 8192>(tiny, no_textures) {
+        Err(e) => e,
+        Ok(_) => panic!("i16f16 cannot hold a radius of 1e-6"),
+    };
+    assert!(
+        matches!(error.kind, microray::ErrorKind::TooSmallForType { .. }),
+        "{error:?}"
+    );
+}

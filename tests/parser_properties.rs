@@ -195,6 +195,7 @@ proptest! {
                     | microray::ErrorKind::ImageTooWide { .. }
                     // Random values spanning 1e-300 to 1e300 exceed what even f64 resolves.
                     | microray::ErrorKind::TooSmallForType { .. }
+                    | microray::ErrorKind::ScaledBelowResolution { .. }
                     | microray::ErrorKind::BeyondRange { .. }
                     // An eye 1e300 away from a window 1e-3 wide.
                     | microray::ErrorKind::PixelsTooFine { .. }

@@ -152,6 +152,7 @@ fn check<S: Scalar>(
             if !matches!(
                 e.kind,
                 ErrorKind::TooSmallForType { .. }
+                    | ErrorKind::ScaledBelowResolution { .. }
                     | ErrorKind::BeyondRange { .. }
                     | ErrorKind::PixelsTooFine { .. }
             ) {

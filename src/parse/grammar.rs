@@ -261,12 +261,41 @@ pub(super) fn parse_into<
     })?;
     // Second pass: the scene, built in place; its camera is set when the block is reached,
     // wherever it is in the file, and there must be exactly one.
-    scene.clear(scale.unwrap_or_else(|| extent.scale_for::<S>()));
+    let scale = scale.unwrap_or_else(|| extent.scale_for::<S>());
+    scene.clear(scale);
     let mut cameras = 0;
-    walk(text, |item| match item {
-        Item::Camera(_) if cameras > 0 => Err(ErrorKind::SecondCamera),
+    walk(text, |item| {
+        load_item(item, scene, &mut cameras, &mut textures)
+            .map_err(|kind| extent.explain::<S>(kind, scale))
+    })?;
+    if cameras == 0 {
+        return Err(Error::at(
+            ErrorKind::NoCamera,
+            Position::of_offset(text, text.len()),
+        ));
+    }
+    Ok(())
+}
+
+/// Loads one block into `scene`, counting the cameras.
+fn load_item<
+    't,
+    S: Scalar,
+    const OBJECTS: usize,
+    const MATERIALS: usize,
+    const LIGHTS: usize,
+    const TEXTURES: usize,
+    const MAX_WIDTH: usize,
+>(
+    item: Item<'_>,
+    scene: &mut Scene<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>,
+    cameras: &mut u32,
+    mut textures: impl FnMut(&str) -> Result<&'t [u8], TextureError>,
+) -> Result<(), ErrorKind> {
+    match item {
+        Item::Camera(_) if *cameras > 0 => Err(ErrorKind::SecondCamera),
         Item::Camera(def) => {
-            cameras += 1;
+            *cameras += 1;
             scene.set_camera(&def)
         }
         Item::Material(def) => scene.add_material(&def),
@@ -285,14 +314,7 @@ pub(super) fn parse_into<
             scene.add_object(&def)
         }
         Item::Texture { name, filename } => scene.add_texture_file(name, filename, &mut textures),
-    })?;
-    if cameras == 0 {
-        return Err(Error::at(
-            ErrorKind::NoCamera,
-            Position::of_offset(text, text.len()),
-        ));
     }
-    Ok(())
 }
 
 fn parse_block<'i>(

@@ -847,11 +847,12 @@ pub(crate) fn load_position<S: Scalar>(
 /// A length that must be above zero (radius, side, world window), scaled and loaded; it
 /// must also be at least the type's resolution.
 pub(crate) fn load_length<S: Scalar>(v: f64, scale: f64, attr: Attr) -> Result<S, ErrorKind> {
-    let length = load::<S>(v * scale, attr)?;
-    if !(v > 0.0) || !(length > S::ZERO) {
+    if !(v > 0.0) {
         return Err(ErrorKind::NotPositive { attr });
     }
-    if v * scale < S::MIN_FEATURE {
+    let length = load::<S>(v * scale, attr)?;
+    // Positive as written: a length that rounds to zero is too small for the type.
+    if v * scale < S::MIN_FEATURE || !(length > S::ZERO) {
         return Err(ErrorKind::TooSmallForType {
             attr,
             number_type: S::NAME,

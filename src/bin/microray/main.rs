@@ -394,7 +394,10 @@ fn check(path: &Path) -> Result<(), Stop> {
         spots,
         count(s.objects().len(), "object"),
         plan_summary(&Renderer::new(&s)),
-    ))
+    ))?;
+    let mut warnings = String::new();
+    s.warnings(|w| warnings.push_str(&format!("{}: warning: {w}\n", shown(path, "<stdin>"))));
+    say(&warnings)
 }
 
 /// One line on what the render plan skips.

@@ -265,8 +265,32 @@ pub(super) fn parse_into<
     scene.clear(scale);
     let mut cameras = 0;
     walk(text, |item| {
-        load_item(item, scene, &mut cameras, &mut textures)
-            .map_err(|kind| extent.explain::<S>(kind, scale))
+        let loaded = match item {
+            Item::Camera(_) if cameras > 0 => Err(ErrorKind::SecondCamera),
+            Item::Camera(def) => {
+                cameras += 1;
+                scene.set_camera(&def)
+            }
+            Item::Material(def) => scene.add_material(&def),
+            Item::Light(def) => {
+                if cfg!(feature = "projector")
+                    && let Some(slide) = &def.slide
+                {
+                    scene.add_texture_named(slide.texname, &mut textures)?;
+                }
+                scene.add_light(&def)
+            }
+            Item::Object(def) => {
+                if let ShapeDef::TexPlane(_, texname, _) = def.shape {
+                    scene.add_texture_named(texname, &mut textures)?;
+                }
+                scene.add_object(&def)
+            }
+            Item::Texture { name, filename } => {
+                scene.add_texture_file(name, filename, &mut textures)
+            }
+        };
+        loaded.map_err(|kind| extent.explain::<S>(kind, scale))
     })?;
     if cameras == 0 {
         return Err(Error::at(
@@ -275,46 +299,6 @@ pub(super) fn parse_into<
         ));
     }
     Ok(())
-}
-
-/// Loads one block into `scene`, counting the cameras.
-fn load_item<
-    't,
-    S: Scalar,
-    const OBJECTS: usize,
-    const MATERIALS: usize,
-    const LIGHTS: usize,
-    const TEXTURES: usize,
-    const MAX_WIDTH: usize,
->(
-    item: Item<'_>,
-    scene: &mut Scene<'t, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>,
-    cameras: &mut u32,
-    mut textures: impl FnMut(&str) -> Result<&'t [u8], TextureError>,
-) -> Result<(), ErrorKind> {
-    match item {
-        Item::Camera(_) if *cameras > 0 => Err(ErrorKind::SecondCamera),
-        Item::Camera(def) => {
-            *cameras += 1;
-            scene.set_camera(&def)
-        }
-        Item::Material(def) => scene.add_material(&def),
-        Item::Light(def) => {
-            if cfg!(feature = "projector")
-                && let Some(slide) = &def.slide
-            {
-                scene.add_texture_named(slide.texname, &mut textures)?;
-            }
-            scene.add_light(&def)
-        }
-        Item::Object(def) => {
-            if let ShapeDef::TexPlane(_, texname, _) = def.shape {
-                scene.add_texture_named(texname, &mut textures)?;
-            }
-            scene.add_object(&def)
-        }
-        Item::Texture { name, filename } => scene.add_texture_file(name, filename, &mut textures),
-    }
 }
 
 fn parse_block<'i>(

@@ -772,6 +772,17 @@ impl ErrorKind {
     }
 }
 
+/// A size: whole below 10^15, else its power of ten.
+fn write_size(f: &mut fmt::Formatter<'_>, size: u64) -> fmt::Result {
+    if size < 1_000_000_000_000_000 {
+        return write!(f, "{size}");
+    }
+    if size == u64::MAX {
+        return f.write_str("over 10^19");
+    }
+    write!(f, "about 10^{}", size.ilog10())
+}
+
 fn write_list(
     f: &mut fmt::Formatter<'_>,
     words: impl Iterator<Item = &'static str>,
@@ -858,10 +869,14 @@ impl fmt::Display for ErrorKind {
                 largest,
                 range_log2,
                 scaled_log2,
-            } => write!(
-                f,
-                "`{largest_at}` is {largest} from the origin, beyond {number_type}'s range of 2^{range_log2}: scaled by 2^-{scaled_log2} to fit, the scene's `{attr}` falls below {number_type}'s resolution (bring the scene nearer the origin, or use a wider number type)"
-            ),
+            } => {
+                f.write_str("the scene reaches ")?;
+                write_size(f, largest)?;
+                write!(
+                    f,
+                    " from the origin (its `{largest_at}`), beyond {number_type}'s range of 2^{range_log2}: scaled by 2^-{scaled_log2} to fit, its `{attr}` falls below {number_type}'s resolution (bring the scene nearer the origin, make it smaller, or use a wider number type)"
+                )
+            }
             ErrorKind::PixelsTooFine { number_type } => write!(
                 f,
                 "neighbouring pixels are closer in direction than {number_type} can tell apart (at least {} steps of its resolution are needed: use fewer pixels or a larger `worlddim`)",

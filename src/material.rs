@@ -97,6 +97,16 @@ pub struct Material<S> {
     pub(crate) filter_weight: S,
 }
 
+/// `loaded`, or the type's smallest step ([`Scalar::NEGLIGIBLE`]: 2^-16, one step of
+/// I16F16) if it rounded a positive `written` to zero.
+fn nonzero<S: Scalar>(loaded: S, written: f64) -> S {
+    if loaded == S::ZERO && written > 0.0 {
+        S::NEGLIGIBLE
+    } else {
+        loaded
+    }
+}
+
 impl<S: Scalar> Material<S> {
     /// Checks a definition.
     /// Checks a definition. Ambient is multiplied by the scene's scale, as the course divides
@@ -105,8 +115,13 @@ impl<S: Scalar> Material<S> {
         let ambient = load_position::<S>(def.ambient, scale, Attr::Ambient)?;
         let diffuse = load3::<S>(def.diffuse, Attr::Diffuse)?;
         let specular = load3::<S>(def.specular, Attr::Specular)?;
-        let shininess = load::<S>(def.shininess, Attr::Shininess)?;
-        let transparency = load::<S>(def.transparency, Attr::Transparency)?;
+        // Zero and not zero shade differently (no glint, opaque): a value the type rounds
+        // to zero is kept at its smallest step.
+        let shininess = nonzero(load::<S>(def.shininess, Attr::Shininess)?, def.shininess);
+        let transparency = nonzero(
+            load::<S>(def.transparency, Attr::Transparency)?,
+            def.transparency,
+        );
         if def.specular.iter().any(|&k| k < 0.0) {
             return Err(ErrorKind::OutOfRange {
                 attr: Attr::Specular,

@@ -70,12 +70,18 @@ impl Extent {
         values.iter().fold(0.0, |m: f64, v| m.max(libm::fabs(*v)))
     }
 
-    fn point(&mut self, p: [f64; 3], reach: f64, attr: Attr) {
+    /// Takes in a position `p` (attribute `attr`) and what reaches `reach` about it
+    /// (attribute `reach_attr`: a radius, a rectangle's sides).
+    fn point(&mut self, p: [f64; 3], attr: Attr, reach: f64, reach_attr: Attr) {
         for c in p {
             let far = libm::fabs(c) + reach;
             if far > self.largest {
                 self.largest = far;
-                self.largest_at = Some(attr);
+                self.largest_at = Some(if reach > libm::fabs(c) {
+                    reach_attr
+                } else {
+                    attr
+                });
             }
         }
     }
@@ -88,19 +94,29 @@ impl Extent {
     pub(crate) fn include(&mut self, item: &Item<'_>) {
         match item {
             Item::Camera(c) => {
-                self.point(c.viewpoint, 0.0, Attr::Viewpoint);
-                self.point([c.worlddim[0], c.worlddim[1], 0.0], 0.0, Attr::Worlddim);
+                self.point(c.viewpoint, Attr::Viewpoint, 0.0, Attr::Viewpoint);
+                self.point(
+                    [c.worlddim[0], c.worlddim[1], 0.0],
+                    Attr::Worlddim,
+                    0.0,
+                    Attr::Worlddim,
+                );
                 c.worlddim.iter().for_each(|&w| self.length(w));
             }
             Item::Light(l) => {
-                self.point(l.location, 0.0, Attr::Location);
+                self.point(l.location, Attr::Location, 0.0, Attr::Location);
                 self.emission = self.emission.max(Self::brightest(l.emissivity));
                 if let Some(spot) = &l.spot {
-                    self.point(spot.point, 0.0, Attr::Point);
+                    self.point(spot.point, Attr::Point, 0.0, Attr::Point);
                 }
                 if let Some(slide) = &l.slide {
                     let r = &slide.rect;
-                    self.point(r.point, r.dimensions[0] + r.dimensions[1], Attr::Point);
+                    self.point(
+                        r.point,
+                        Attr::Point,
+                        r.dimensions[0] + r.dimensions[1],
+                        Attr::Dimensions,
+                    );
                     r.dimensions.iter().for_each(|&d| self.length(d));
                 }
             }
@@ -110,20 +126,25 @@ impl Extent {
             }
             Item::Texture { .. } => {}
             Item::Object(o) => match &o.shape {
-                ShapeDef::Plane(p) => self.point(p.point, 0.0, Attr::Point),
+                ShapeDef::Plane(p) => self.point(p.point, Attr::Point, 0.0, Attr::Point),
                 ShapeDef::Sphere(s) => {
-                    self.point(s.center, s.radius, Attr::Center);
+                    self.point(s.center, Attr::Center, s.radius, Attr::Radius);
                     self.length(s.radius);
                     self.radius = self.radius.max(s.radius);
                 }
                 ShapeDef::RevSurf(r) => {
                     let reach = 4.0 + libm::fabs(r.height);
-                    self.point(r.base, reach, Attr::Base);
+                    self.point(r.base, Attr::Base, reach, Attr::Height);
                     self.length(r.height);
                     self.radius = self.radius.max(reach);
                 }
                 ShapeDef::FPlane(r) | ShapeDef::TiledPlane(r, _) | ShapeDef::TexPlane(r, _, _) => {
-                    self.point(r.point, r.dimensions[0] + r.dimensions[1], Attr::Point);
+                    self.point(
+                        r.point,
+                        Attr::Point,
+                        r.dimensions[0] + r.dimensions[1],
+                        Attr::Dimensions,
+                    );
                     r.dimensions.iter().for_each(|&d| self.length(d));
                 }
             },

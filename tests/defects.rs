@@ -223,7 +223,7 @@ fn a_length_too_small_after_scaling_names_the_far_value() {
     assert!(
         error
             .to_string()
-            .contains("`center` is 1000000000005 from the origin"),
+            .starts_with("1:27: the scene reaches 1000000000005 from the origin (its `center`)"),
         "{error}"
     );
     // f32 and f64 hold it.
@@ -237,4 +237,44 @@ fn a_length_too_small_after_scaling_names_the_far_value() {
         matches!(error.kind, microray::ErrorKind::TooSmallForType { .. }),
         "{error:?}"
     );
+}
+
+/// The share of pixels with a channel more than 16 levels off.
+fn grossly_off(a: &[u8], b: &[u8]) -> f64 {
+    let off = a
+        .chunks(3)
+        .zip(b.chunks(3))
+        .filter(|(p, q)| p.iter().zip(q.iter()).any(|(x, y)| x.abs_diff(*y) > 16))
+        .count();
+    off as f64 / (a.len() / 3) as f64
+}
+
+#[test]
+fn i16f16_renders_well_posed_scenes_within_the_usual_bounds() {
+    // Issue 36, item 4: directions written at 1e-5 scale (65 % of pixels off before), and a
+    // transparency I16F16 rounded to zero (an opaque plane that hid the glints behind it).
+    for name in ["i16f16_tiny_normal.txt", "i16f16_barely_transparent.txt"] {
+        let text = defect(name);
+        let reference = rgb::<f64>(&text, true);
+        let fixed = rgb::<I16F16>(&text, true);
+        let off = grossly_off(&reference, &fixed);
+        assert!(off <= 0.02, "{name}: {:.1} % off", off * 100.0);
+        assert!(warnings(&text).is_empty(), "{name}: {:?}", warnings(&text));
+    }
+    // The direction is scaled by a power of two, not rounded: f64 makes the same unit normal
+    // of it as of the same normal written 1024 times larger, bit for bit.
+    let small = load::<f64>(&defect("i16f16_tiny_normal.txt"));
+    let scaled_up = String::from_utf8(defect("i16f16_tiny_normal.txt"))
+        .unwrap()
+        .replace(
+            "normal 0.00000893 0.0000786 0.0000612",
+            "normal 0.00914432 0.0804864 0.0626688",
+        );
+    let large = load::<f64>(scaled_up.as_bytes());
+    match (small.objects()[2].shape(), large.objects()[2].shape()) {
+        (microray::object::Shape::TiledPlane(a), microray::object::Shape::TiledPlane(b)) => {
+            assert_eq!(a.rect.plane.unit_normal, b.rect.plane.unit_normal);
+        }
+        _ => panic!("object 2 is the tiled plane"),
+    }
 }

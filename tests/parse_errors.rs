@@ -571,11 +571,12 @@ fn values_beyond_the_number_type() {
         "{}",
         scaled.scale()
     );
-    // With 1e39 the camera's world window would fall below f32's resolution.
+    // With 1e39 the camera's world window would fall below f32's resolution: the error
+    // names the radius that made the scene be scaled so far.
     let e = parse_scene::<f32, 32, 16, 8, 16, 1024>(text.as_bytes(), no_textures).unwrap_err();
     assert_eq!(
         e.to_string(),
-        "1:27: `worlddim` is too small for f32, the number type of this build (below its resolution once the scene is scaled to its range)"
+        "1:27: the scene reaches over 10^19 from the origin (its `radius`), beyond f32's range of 2^30: scaled by 2^-100 to fit, its `worlddim` falls below f32's resolution (bring the scene nearer the origin, make it smaller, or use a wider number type)"
     );
     // What scaling cannot save: a range of sizes wider than the type's.
     let wide = scene(
@@ -584,7 +585,7 @@ fn values_beyond_the_number_type() {
     let e = parse_scene::<f32, 32, 16, 8, 16, 1024>(wide.as_bytes(), no_textures).unwrap_err();
     assert_eq!(
         e.to_string(),
-        "4:41: `radius` is too small for f32, the number type of this build (below its resolution once the scene is scaled to its range)"
+        "4:41: the scene reaches over 10^19 from the origin (its `radius`), beyond f32's range of 2^30: scaled by 2^-37 to fit, its `radius` falls below f32's resolution (bring the scene nearer the origin, make it smaller, or use a wider number type)"
     );
     assert!(parse_scene::<f64, 32, 16, 8, 16, 1024>(wide.as_bytes(), no_textures).is_ok());
 }

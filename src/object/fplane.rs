@@ -9,7 +9,7 @@ use crate::object::plane::{Plane, PlaneDef};
 #[cfg(feature = "print")]
 use crate::print;
 use crate::ray::Ray;
-use crate::scalar::{Scalar, load_length, load3};
+use crate::scalar::{Scalar, load_direction, load_length};
 use crate::vec3::Vec3;
 #[cfg(feature = "print")]
 use core::fmt;
@@ -91,7 +91,7 @@ impl<S: Scalar> Rect<S> {
             },
             scale,
         )?;
-        let xdir = load3::<S>(def.xdir, Attr::Xdir)?;
+        let xdir = load_direction::<S>(def.xdir, Attr::Xdir)?;
         let dimensions = [
             load_length::<S>(def.dimensions[0], scale, Attr::Dimensions)?,
             load_length::<S>(def.dimensions[1], scale, Attr::Dimensions)?,

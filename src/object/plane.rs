@@ -9,7 +9,7 @@ use crate::material::MaterialId;
 #[cfg(feature = "print")]
 use crate::print;
 use crate::ray::Ray;
-use crate::scalar::{Scalar, load, load_position, load3};
+use crate::scalar::{Scalar, load, load_direction, load_position};
 use crate::vec3::Vec3;
 #[cfg(feature = "print")]
 use core::fmt;
@@ -42,7 +42,7 @@ pub struct Plane<S> {
 impl<S: Scalar> Plane<S> {
     /// Checks a definition: finite values, a normal that is not zero.
     pub(crate) fn build(def: &PlaneDef, scale: f64) -> Result<Self, ErrorKind> {
-        let normal = load3::<S>(def.normal, Attr::Normal)?;
+        let normal = load_direction::<S>(def.normal, Attr::Normal)?;
         let point = load_position::<S>(def.point, scale, Attr::Point)?;
         // Invariants in f64 from the stored values: every number type starts from the same
         // correctly rounded unit normal, and a re-read printed scene is equal.

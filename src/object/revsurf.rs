@@ -68,7 +68,7 @@ use crate::material::MaterialId;
 #[cfg(feature = "print")]
 use crate::print;
 use crate::ray::Ray;
-use crate::scalar::{Scalar, load, load_length, load_position, load3};
+use crate::scalar::{Scalar, load, load_direction, load_length, load_position};
 use crate::vec3::Vec3;
 #[cfg(feature = "print")]
 use core::fmt;
@@ -163,7 +163,7 @@ impl<S: Scalar> RevSurf<S> {
     /// Checks a definition: a direction that is not zero, a height above zero.
     pub(crate) fn build(def: &RevSurfDef, scale: f64) -> Result<Self, ErrorKind> {
         let base = load_position::<S>(def.base, scale, Attr::Base)?;
-        let direction = load3::<S>(def.direction, Attr::Direction)?;
+        let direction = load_direction::<S>(def.direction, Attr::Direction)?;
         let height = load_length::<S>(def.height, scale, Attr::Height)?;
         let axis = direction.to_f64().unit_f64().ok_or(ErrorKind::ZeroVector {
             attr: Attr::Direction,

@@ -292,18 +292,29 @@ mod tests {
 
     #[test]
     fn radius_must_be_positive() {
-        for radius in [0.0, -1.0, 1e-300] {
+        let build = |radius| {
             let def = SphereDef {
                 center: [0.0; 3],
                 radius,
             };
-            let result = Sphere::<f32>::build(&def, 1.0);
+            Sphere::<f32>::build(&def, 1.0)
+        };
+        for radius in [0.0, -1.0] {
+            let result = build(radius);
             assert_eq!(
                 result,
                 Err(ErrorKind::NotPositive { attr: Attr::Radius }),
                 "{radius}"
             );
         }
+        // Positive, but zero in f32: too small for the type (issue 36: not "not positive").
+        assert_eq!(
+            build(1e-300),
+            Err(ErrorKind::TooSmallForType {
+                attr: Attr::Radius,
+                number_type: "f32"
+            })
+        );
     }
 
     #[cfg(all(feature = "plan", feature = "batch"))]

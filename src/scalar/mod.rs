@@ -861,6 +861,29 @@ pub(crate) fn load_length<S: Scalar>(v: f64, scale: f64, attr: Attr) -> Result<S
     Ok(length)
 }
 
+/// A direction (a normal, an `xdir`, an axis): only its direction counts, so one whose
+/// components are all below 1/16 or one above 256 is first scaled by a power of two to bring
+/// its largest component into `[0.5, 1)`. Exact in floating point (the unit vector made from
+/// it is the same, bit for bit); in fixed point it keeps the direction's precision, which a
+/// normal of `1e-4 5e-5 0` written as is would lose to the type's step of 2^-16.
+pub(crate) fn load_direction<S: Scalar>(v: [f64; 3], attr: Attr) -> Result<Vec3<S>, ErrorKind> {
+    let largest = v.iter().fold(0.0_f64, |m, c| m.max(libm::fabs(*c)));
+    let mut k = 1.0;
+    if largest > 0.0 && largest.is_finite() && !(1.0 / 16.0..=256.0).contains(&largest) {
+        // At most 1100 halvings or doublings cover every finite f64.
+        for _ in 0..1100 {
+            if largest * k < 0.5 {
+                k *= 2.0;
+            } else if largest * k >= 1.0 {
+                k *= 0.5;
+            } else {
+                break;
+            }
+        }
+    }
+    load3(v.map(|c| c * k), attr)
+}
+
 /// [`load`] for each component of a vector.
 pub(crate) fn load3<S: Scalar>(v: [f64; 3], attr: Attr) -> Result<Vec3<S>, ErrorKind> {
     Ok(Vec3::new(

@@ -305,8 +305,8 @@ pub(crate) fn read_material<S: Scalar>(input: &mut Reader<'_>) -> Result<Materia
         transparency,
         filter,
         reflects: specular != Vec3::ZERO,
-        mirror_weight: specular.max_component(),
-        filter_weight: filter.max_component(),
+        mirror_halvings: crate::material::halvings(specular),
+        filter_halvings: crate::material::halvings(filter),
     })
 }
 

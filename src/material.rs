@@ -91,17 +91,32 @@ pub struct Material<S> {
     pub filter: Vec3<S>,
     /// `specular` is not zero: kept so that a batch asks once, not per channel.
     pub(crate) reflects: bool,
-    /// The strongest channel of `specular`: a mirror ray's weight in what it adds.
-    pub(crate) mirror_weight: S,
-    /// The strongest channel of `filter`: a transmitted ray's weight in what it adds.
-    pub(crate) filter_weight: S,
+    /// How many times the strongest channel of `specular` can be halved and stay at or
+    /// above it: a mirror ray weighs at most `2^-mirror_halvings` of what reaches its hit.
+    pub(crate) mirror_halvings: u8,
+    /// The same for `filter`: a transmitted ray's bound.
+    pub(crate) filter_halvings: u8,
 }
 
-/// `loaded`, or the type's smallest step ([`Scalar::NEGLIGIBLE`]: 2^-16, one step of
-/// I16F16) if it rounded a positive `written` to zero.
+/// The largest `h` (up to 255) with every channel of `coefficient` at most `2^-h`: a ray
+/// through it weighs at most `2^-h` of the ray that met the surface. In f64 from the stored
+/// values, so every number type and a compiled or printed scene agree.
+pub(crate) fn halvings<S: Scalar>(coefficient: Vec3<S>) -> u8 {
+    let strongest = coefficient.to_f64().max_component();
+    let mut bound = 0.5;
+    let mut h = 0;
+    while !(strongest > bound) && h < u8::MAX {
+        bound *= 0.5;
+        h += 1;
+    }
+    h
+}
+
+/// `loaded`, or [`Scalar::STEP`] (2^-16, one step of I16F16) if the type rounded a
+/// positive `written` to zero.
 fn nonzero<S: Scalar>(loaded: S, written: f64) -> S {
     if loaded == S::ZERO && written > 0.0 {
-        S::NEGLIGIBLE
+        S::STEP
     } else {
         loaded
     }
@@ -170,8 +185,8 @@ impl<S: Scalar> Material<S> {
             transparency,
             filter,
             reflects: specular != Vec3::ZERO,
-            mirror_weight: specular.max_component(),
-            filter_weight: filter.max_component(),
+            mirror_halvings: halvings(specular),
+            filter_halvings: halvings(filter),
         })
     }
 

@@ -31,6 +31,47 @@ fn check_accepts_project_scenes() {
 }
 
 #[test]
+fn check_and_render_warn_about_ill_posed_scenes() {
+    let dir = std::env::temp_dir().join(format!("microray-cli-warnings-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("twin.txt");
+    std::fs::write(
+        &scene,
+        "camera c { pixeldim 8 6 worlddim 8 6 viewpoint 4 3 3 }
+         material m { diffuse 1 1 1 }
+         light lamp { location 4 5 -1 emissivity 1 1 1 }
+         sphere a { material m center 4 3 -2 radius 1 }
+         sphere b { material m center 4 3 -2 radius 1 }",
+    )
+    .unwrap();
+    let path = scene.to_str().unwrap();
+    let warning = format!(
+        "{path}: warning: sphere `a` and sphere `b` coincide: which one a ray meets is decided by rounding\n"
+    );
+    let out = microray(&["check", path]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stdout).ends_with(&warning),
+        "{}",
+        text(&out.stdout)
+    );
+    let image = dir.join("twin.ppm");
+    let out = microray(&["render", path, "-o", image.to_str().unwrap()]);
+    assert!(out.status.success());
+    assert!(
+        text(&out.stderr).starts_with(&warning),
+        "{}",
+        text(&out.stderr)
+    );
+    let out = microray(&["render", "-q", path, "-o", image.to_str().unwrap()]);
+    assert!(
+        out.status.success() && out.stderr.is_empty(),
+        "{}",
+        text(&out.stderr)
+    );
+}
+
+#[test]
 #[cfg_attr(
     not(microray_conformance),
     ignore = "needs the course's scenes: set MICRORAY_CONFORMANCE to their folder"

@@ -1,5 +1,5 @@
 //! Regression tests for the defects the random-scene differential suite found (issue 36),
-//! each built from its reproducer in `tests/scenes/defects/`.
+//! each built from its reproducer in `tests/defects/`.
 
 mod common;
 
@@ -11,7 +11,7 @@ use microray::{Scalar, Vec3};
 use std::path::Path;
 
 fn defect(name: &str) -> Vec<u8> {
-    std::fs::read(Path::new("tests/scenes/defects").join(name)).unwrap()
+    std::fs::read(Path::new("tests/defects").join(name)).unwrap()
 }
 
 fn load<S: Scalar>(text: &[u8]) -> HostScene<'static, S> {

@@ -316,7 +316,7 @@ impl Scalar for I16F16 {
     const ONE: Self = Self::from_bits(1 << FRAC);
     const TWO: Self = Self::from_bits(2 << FRAC);
     const UNBOUNDED: Self = Self::MAX;
-    const NEGLIGIBLE: Self = Self::from_bits(1 << (FRAC - 16));
+    const STEP: Self = Self::from_bits(1 << (FRAC - 16));
     // Distances between points of a cube of half-side 8192 stay below 2 sqrt(3) 8192 = 28378.
     const MAX_EXTENT: f64 = 8192.0;
     // Half the range: room for a few lights' terms to be added before the division.

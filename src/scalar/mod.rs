@@ -69,10 +69,9 @@ pub trait Scalar:
     /// A limit above every ray parameter that counts: infinity for the float types, the
     /// largest value for fixed point (where a saturated value counts as no hit).
     const UNBOUNDED: Self;
-    /// 2^-16: a ray whose weight in its pixel (the product of the mirror and filter
-    /// coefficients along its path) is below this is not traced (see
-    /// [`shade`](crate::shade)'s docs). One step of I16F16.
-    const NEGLIGIBLE: Self;
+    /// 2^-16, one step of I16F16: what a positive transparency or shininess the type would
+    /// round to zero is kept at (zero shades otherwise: opaque, no glint).
+    const STEP: Self;
     /// Scenes whose coordinates exceed this are scaled down at load (by a power of two, so
     /// that the image is unchanged in exact arithmetic).
     const MAX_EXTENT: f64;
@@ -406,7 +405,7 @@ impl Scalar for f64 {
     const ONE: Self = 1.0;
     const TWO: Self = 2.0;
     const UNBOUNDED: Self = f64::INFINITY;
-    const NEGLIGIBLE: Self = 1.0 / 65536.0;
+    const STEP: Self = 1.0 / 65536.0;
     // Squares of coordinates stay finite below 2^500.
     const MAX_EXTENT: f64 = 3.273390607896142e150;
     const MAX_TERM: f64 = 1e300;
@@ -633,7 +632,7 @@ impl Scalar for f32 {
     const ONE: Self = 1.0;
     const TWO: Self = 2.0;
     const UNBOUNDED: Self = f32::INFINITY;
-    const NEGLIGIBLE: Self = 1.0 / 65536.0;
+    const STEP: Self = 1.0 / 65536.0;
     // Products of four coordinates (a direction's square times a radius's, in the sphere
     // test) stay finite below 2^30.
     const MAX_EXTENT: f64 = 1_073_741_824.0;

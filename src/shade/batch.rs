@@ -46,8 +46,8 @@ struct Lane<S> {
     /// The distance travelled before the ray.
     total: S,
     depth: u8,
-    /// Its weight in its pixel (see [`Onward::leaving`]).
-    weight: S,
+    /// It weighs at most `2^-halvings` in its pixel (see [`Onward::leaving`]).
+    halvings: u8,
     /// The object it meets first and where.
     hit: Option<(usize, S)>,
 }
@@ -74,7 +74,7 @@ impl<S: Scalar> Shader<'_, S> {
                     left: None,
                     total: S::ZERO,
                     depth: 0,
-                    weight: S::ONE,
+                    halvings: 0,
                     hit: None,
                 });
             });
@@ -93,7 +93,7 @@ impl<S: Scalar> Shader<'_, S> {
         if lanes.iter().flatten().count() < SPARSE {
             for (c, lane) in out.iter_mut().zip(lanes.iter()) {
                 *c = lane.map_or(Vec3::ZERO, |l| {
-                    self.trace_weighted(&l.ray, l.total, l.left, l.depth, l.weight)
+                    self.trace_weighted(&l.ray, l.total, l.left, l.depth, l.halvings)
                 });
             }
             return;
@@ -164,7 +164,7 @@ impl<S: Scalar> Shader<'_, S> {
                             t,
                             lane.total,
                             lane.depth,
-                            lane.weight,
+                            lane.halvings,
                         ),
                     });
                 }
@@ -176,11 +176,11 @@ impl<S: Scalar> Shader<'_, S> {
         // (Each stage asked first, so that a render without it does not even clear its
         // lanes.)
         if self.any_mirrors() {
-            let mirrors = |s: &Self, m: &Material<S>| s.mirrors(m).then_some(m.mirror_weight);
+            let mirrors = |s: &Self, m: &Material<S>| s.mirrors(m).then_some(m.mirror_halvings);
             self.leaving(&shades, out, mirrors, mirror_ray, with_mirror);
         }
         if self.any_transmits() {
-            let through = |s: &Self, m: &Material<S>| s.transmits(m).then_some(m.filter_weight);
+            let through = |s: &Self, m: &Material<S>| s.transmits(m).then_some(m.filter_halvings);
             self.leaving(&shades, out, through, through_ray, with_behind);
         }
     }
@@ -303,14 +303,14 @@ impl<S: Scalar> Shader<'_, S> {
     }
 
     /// Traces the rays leaving the shaded hits whose material `leaves` says so (it gives
-    /// their coefficient's strongest channel; `ray` makes them) and adds what they see to
+    /// their coefficient's halvings, see [`Material`]; `ray` makes them) and adds what they see to
     /// their colours in `out` (as `add` says; black for a negligible ray, not traced).
     #[inline(always)]
     fn leaving(
         &self,
         shaded: &Shaded<'_, '_, S>,
         out: &mut [Vec3<S>; BATCH],
-        leaves: impl Fn(&Self, &Material<S>) -> Option<S>,
+        leaves: impl Fn(&Self, &Material<S>) -> Option<u8>,
         ray: impl Fn(&Ray<S>, &Hit<S>, &Onward<S>) -> Ray<S>,
         add: impl Fn(Vec3<S>, Vec3<S>, &Material<S>) -> Vec3<S>,
     ) {
@@ -321,9 +321,9 @@ impl<S: Scalar> Shader<'_, S> {
                 && let Some(coefficient) = leaves(self, shade.surface.material)
             {
                 any = true;
-                if let Some(weight) = shade.onward.leaving(coefficient) {
+                if let Some(halvings) = shade.onward.leaving(coefficient) {
                     let leaving = ray(shade.ray, &shade.surface.hit, &shade.onward);
-                    *next = Some(follow(leaving, &shade.onward, weight));
+                    *next = Some(follow(leaving, &shade.onward, halvings));
                     traced = true;
                 }
             }
@@ -389,14 +389,15 @@ fn lit<'a, 's, S: Scalar>(
         .filter_map(|(c, shade)| Some((c, shade.as_ref()?)))
 }
 
-/// The lane of a ray of `weight` leaving a hit, as `onward` says (as [`Shader::follow`]).
-fn follow<S: Scalar>(ray: Ray<S>, onward: &Onward<S>, weight: S) -> Lane<S> {
+/// The lane of a ray bounded by `2^-halvings` leaving a hit, as `onward` says (as
+/// [`Shader::follow`]).
+fn follow<S: Scalar>(ray: Ray<S>, onward: &Onward<S>, halvings: u8) -> Lane<S> {
     Lane {
         ray,
         left: Some(onward.index),
         total: onward.total,
         depth: onward.depth + 1,
-        weight,
+        halvings,
         hit: None,
     }
 }

@@ -23,14 +23,17 @@
 //! Two calls a hit make a tree of up to 2^16 rays a pixel where every surface both mirrors
 //! and lets light through, though most of them may count for nothing: with `transparency
 //! 1e-6`, what a ray through adds is multiplied by a filter of at most 1e-6. So each ray
-//! carries its weight in its pixel, the product of the strongest channels of the mirror
-//! (`specular`) and filter coefficients along its path, and a ray whose weight is below
-//! [`Scalar::NEGLIGIBLE`] (2^-16, one step of I16F16) is not traced: it adds black. What
-//! that leaves out of a pixel is the weight times what the ray would have seen, so below
-//! 1/256 of a level wherever that is below 1 (where the picture saturates), and always
-//! below what I16F16 can hold. The cost is the number of paths worth 2^-16 of their pixel
-//! or more: one mirror chain for a barely transparent mirror (issue 36: a 2^16 tree before).
-//! The course's scenes have no such rays: their images are the same bit for bit.
+//! carries a bound on its weight in its pixel: the product of the strongest channels of
+//! the mirror (`specular`) and filter coefficients along its path is at most `2^-h`, `h`
+//! the sum of each coefficient's whole halvings (a material's `mirror_halvings` and
+//! `filter_halvings`, worked out in f64 at load: the same in every number type). A ray
+//! whose bound is below 2^-16 (`h` above [`NEGLIGIBLE_HALVINGS`]) is not traced: it adds
+//! black. What that leaves out of a pixel is below 2^-16 of what the ray would have seen,
+//! so below 1/256 of a level wherever that is below 1 (where the picture saturates). The
+//! cost is the number of paths worth about 2^-16 of their pixel or more: one mirror chain
+//! for a barely transparent mirror (issue 36: a 2^16 tree before), one integer addition and
+//! comparison a ray. The course's scenes have no such rays: their images are the same bit
+//! for bit.
 
 use crate::bvh::Tree;
 use crate::light::Light;
@@ -63,6 +66,10 @@ pub const MAX_DISTANCE: f64 = 32.0;
 /// The course's own scenes reach depth 12 (spec3, in the corner of two mirrors); the bound
 /// protects a microcontroller's stack from scenes whose rays take tiny steps.
 pub const MAX_DEPTH: u8 = 16;
+
+/// A ray bounded by `2^-h` with `h` above this weighs less than 2^-16 of its pixel and is
+/// not traced (see the module's docs).
+pub const NEGLIGIBLE_HALVINGS: u8 = 16;
 
 /// Lights whose last blocker is remembered (see [`ShadowCache`]).
 pub const CACHED_LIGHTS: usize = 8;
@@ -206,7 +213,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         // Nothing travelled yet: no bound to check.
         let found = closest_hit_among(self.objects, &among, ray, None, S::UNBOUNDED, self.z_limit);
         match found {
-            Some((index, t)) => self.shade(ray, index, t, S::ZERO, 0, S::ONE),
+            Some((index, t)) => self.shade(ray, index, t, S::ZERO, 0, 0),
             None => Vec3::ZERO,
         }
     }
@@ -215,7 +222,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// tests were prepared (see [`crate::object::RowTest`]).
     pub fn primary_in_row(&self, ray: &Ray<S>, row: &[RowEntry<S>]) -> Vec3<S> {
         match closest_hit_in_row(self.objects, row, self.tree(), ray, self.z_limit) {
-            Some((index, t)) => self.shade(ray, index, t, S::ZERO, 0, S::ONE),
+            Some((index, t)) => self.shade(ray, index, t, S::ZERO, 0, 0),
             None => Vec3::ZERO,
         }
     }
@@ -259,19 +266,20 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// The course's `trace`: `total` is the distance travelled so far, `left_from` the object
     /// the ray leaves.
     pub fn trace(&self, ray: &Ray<S>, total: S, left_from: Option<usize>, depth: u8) -> Vec3<S> {
-        self.trace_weighted(ray, total, left_from, depth, S::ONE)
+        self.trace_weighted(ray, total, left_from, depth, 0)
     }
 
-    /// [`trace`](Self::trace) for a ray of `weight` in its pixel (see the module's docs).
+    /// [`trace`](Self::trace) for a ray that weighs at most `2^-halvings` in its pixel (see
+    /// the module's docs).
     pub(crate) fn trace_weighted(
         &self,
         ray: &Ray<S>,
         total: S,
         left_from: Option<usize>,
         depth: u8,
-        weight: S,
+        halvings: u8,
     ) -> Vec3<S> {
-        self.trace_among(ray, &self.among, total, left_from, depth, weight)
+        self.trace_among(ray, &self.among, total, left_from, depth, halvings)
     }
 
     fn trace_among(
@@ -281,7 +289,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         total: S,
         left_from: Option<usize>,
         depth: u8,
-        weight: S,
+        halvings: u8,
     ) -> Vec3<S> {
         #[cfg(all(test, feature = "std"))]
         tests::TRACED.with(|traced| traced.set(traced.get() + 1));
@@ -297,16 +305,24 @@ impl<'s, S: Scalar> Shader<'s, S> {
             self.z_limit,
         );
         match found {
-            Some((index, t)) => self.shade(ray, index, t, total, depth, weight),
+            Some((index, t)) => self.shade(ray, index, t, total, depth, halvings),
             None => Vec3::ZERO,
         }
     }
 
     /// The colour where `ray`, having come `total` so far, meets object `index` at `t`:
     /// the object's own light, then what its mirror and its transparency let through
-    /// (`depth` and `weight`: the ray's, see the module's docs).
+    /// (`depth` and `halvings`: the ray's, see the module's docs).
     #[inline(never)]
-    fn shade(&self, ray: &Ray<S>, index: usize, t: S, total: S, depth: u8, weight: S) -> Vec3<S> {
+    fn shade(
+        &self,
+        ray: &Ray<S>,
+        index: usize,
+        t: S,
+        total: S,
+        depth: u8,
+        halvings: u8,
+    ) -> Vec3<S> {
         let Some(object) = self.objects.get(index) else {
             return Vec3::ZERO;
         };
@@ -316,7 +332,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let Some(surface) = found.as_ref() else {
             return Vec3::ZERO;
         };
-        let (c, onward) = self.own_light(ray, surface, index, t, total, depth, weight);
+        let (c, onward) = self.own_light(ray, surface, index, t, total, depth, halvings);
         self.beyond(c, ray, &surface.hit, surface.material, &onward)
     }
 
@@ -333,9 +349,9 @@ impl<'s, S: Scalar> Shader<'s, S> {
         t: S,
         total: S,
         depth: u8,
-        weight: S,
+        halvings: u8,
     ) -> (Vec3<S>, Onward<S>) {
-        let onward = onward(ray, index, t, total, depth, weight);
+        let onward = onward(ray, index, t, total, depth, halvings);
         let c = if S::COURSE_ORDER {
             self.local(surface, index, ray.base) / onward.total
         } else {
@@ -356,8 +372,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
         onward: &Onward<S>,
     ) -> Vec3<S> {
         if self.mirrors(material) {
-            let seen = match onward.leaving(material.mirror_weight) {
-                Some(weight) => self.follow(&mirror_ray(ray, hit, onward), onward, weight),
+            let seen = match onward.leaving(material.mirror_halvings) {
+                Some(halvings) => self.follow(&mirror_ray(ray, hit, onward), onward, halvings),
                 None => Vec3::ZERO,
             };
             c = with_mirror(c, seen, material);
@@ -376,8 +392,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
         onward: &Onward<S>,
     ) -> Vec3<S> {
         if self.transmits(material) {
-            let behind = match onward.leaving(material.filter_weight) {
-                Some(weight) => self.follow(&through_ray(ray, hit, onward), onward, weight),
+            let behind = match onward.leaving(material.filter_halvings) {
+                Some(halvings) => self.follow(&through_ray(ray, hit, onward), onward, halvings),
                 None => Vec3::ZERO,
             };
             return with_behind(c, behind, material);
@@ -410,15 +426,16 @@ impl<'s, S: Scalar> Shader<'s, S> {
         cfg!(feature = "transparency") && self.stages.transparency
     }
 
-    /// The colour along a ray of `weight` leaving a hit, as `onward` says.
+    /// The colour along a ray leaving a hit, weighing at most `2^-halvings`, as `onward`
+    /// says.
     #[inline(always)]
-    fn follow(&self, ray: &Ray<S>, onward: &Onward<S>, weight: S) -> Vec3<S> {
+    fn follow(&self, ray: &Ray<S>, onward: &Onward<S>, halvings: u8) -> Vec3<S> {
         self.trace_weighted(
             ray,
             onward.total,
             Some(onward.index),
             onward.depth + 1,
-            weight,
+            halvings,
         )
     }
 
@@ -843,7 +860,7 @@ fn onward<S: Scalar>(
     t: S,
     total: S,
     depth: u8,
-    weight: S,
+    halvings: u8,
 ) -> Onward<S> {
     // The distance travelled: `t` for the unit rays of f64, `t |dir|` otherwise.
     let (len, travelled) = if S::COURSE_ORDER {
@@ -857,7 +874,7 @@ fn onward<S: Scalar>(
         len,
         total: total + travelled,
         depth,
-        weight,
+        halvings,
     }
 }
 
@@ -959,18 +976,18 @@ struct Onward<S> {
     len: S,
     total: S,
     depth: u8,
-    /// The weight in its pixel of the ray that met the hit.
-    weight: S,
+    /// The ray that met the hit weighs at most `2^-halvings` in its pixel.
+    halvings: u8,
 }
 
 impl<S: Scalar> Onward<S> {
-    /// The weight of a ray leaving the hit through a mirror or filter of strongest channel
-    /// `coefficient`; `None` if it is negligible (below [`Scalar::NEGLIGIBLE`]): the ray
-    /// is not traced and adds black.
+    /// The bound of a ray leaving the hit through a mirror or filter of `halvings` (see
+    /// [`Material`]); `None` if the ray is negligible (it weighs less than 2^-16 of its
+    /// pixel): it is not traced and adds black.
     #[inline(always)]
-    fn leaving(&self, coefficient: S) -> Option<S> {
-        let weight = self.weight * coefficient;
-        (weight >= S::NEGLIGIBLE).then_some(weight)
+    fn leaving(&self, halvings: u8) -> Option<u8> {
+        let bound = self.halvings.saturating_add(halvings);
+        (bound <= NEGLIGIBLE_HALVINGS).then_some(bound)
     }
 }
 

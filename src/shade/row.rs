@@ -25,7 +25,10 @@
 //! The row's fast case ([`RowShading::plain`]: every ray on the plane, every shadow
 //! decided) costs spec0 about a third of the per-pixel path on a Cortex-M4F.
 
-use super::{MAX_DEPTH, Onward, Shader, add_diffuse, glint, in_cone, reflect, with_ambient};
+use super::{
+    MAX_DEPTH, NEGLIGIBLE_HALVINGS, Onward, Shader, add_diffuse, glint, in_cone, reflect,
+    with_ambient,
+};
 use crate::light::Light;
 use crate::object::{
     Among, Hit, RowEntry, RowOrigin, Surface, closest_hit_among, closest_hit_in_row, row_plane,
@@ -86,8 +89,9 @@ struct Level<'s, S: Scalar> {
     transparent: bool,
     /// Whether some lights' shadow rays are tested by each pixel.
     shadows_per_pixel: bool,
-    /// The weight of the level's rays in their pixels (see [`Onward::leaving`]).
-    weight: S,
+    /// The level's rays weigh at most `2^-halvings` in their pixels (see
+    /// [`Onward::leaving`]).
+    halvings: u8,
 }
 
 /// The rays of one row meeting one plain plane at one `t`, and their mirror rays the next
@@ -151,7 +155,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let mut ray = Ray::new(origin.eye, Vec3::new(S::ZERO, origin.dy, origin.dz));
         let all_ignore_x = self.all_ignore_x();
         let mut levels = heapless::Vec::new();
-        let mut weight = S::ONE;
+        let mut halvings = 0;
         loop {
             let object = self.objects.get(index)?;
             if !object.surface_is_uniform() {
@@ -179,11 +183,11 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 ambient: !surface.ambient.is_zero(),
                 transparent: self.transmits(material),
                 shadows_per_pixel: shadow_per_pixel,
-                weight,
+                halvings,
             };
             // A negligible mirror ray adds black: no mirror, the same sum.
-            let mirror_weight = weight * material.mirror_weight;
-            if !self.mirrors(material) || !(mirror_weight >= S::NEGLIGIBLE) {
+            let mirror_halvings = halvings.saturating_add(material.mirror_halvings);
+            if !self.mirrors(material) || mirror_halvings > NEGLIGIBLE_HALVINGS {
                 // Cannot fail: a level is added only below the capacity.
                 levels.push(level).ok()?;
                 break;
@@ -212,7 +216,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
             level.mirror = Mirror::Level;
             levels.push(level).ok()?;
             (index, t) = (next_index, next_t);
-            weight = mirror_weight;
+            halvings = mirror_halvings;
         }
         Some(RowShading { levels, tested })
     }
@@ -295,7 +299,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let first = row.levels.first().map(|level| level.index);
         match closest_hit_in_row(self.objects, tests, None, ray, self.z_limit) {
             Some((index, _)) if Some(index) == first => self.shade_testing_shadows(row, ray),
-            Some((index, t)) => self.shade(ray, index, t, S::ZERO, 0, S::ONE),
+            Some((index, t)) => self.shade(ray, index, t, S::ZERO, 0, 0),
             None => Vec3::ZERO,
         }
     }
@@ -343,13 +347,13 @@ impl<'s, S: Scalar> Shader<'s, S> {
             len,
             total,
             depth,
-            weight: level.weight,
+            halvings: level.halvings,
         };
         if cfg!(feature = "reflection") && level.mirror != Mirror::None {
             let reflected = Ray::with_length(hit.point, reflect(ray.dir, hit.normal), len);
             let seen = match level.mirror {
-                Mirror::Trace => match onward.leaving(material.mirror_weight) {
-                    Some(weight) => self.follow(&reflected, &onward, weight),
+                Mirror::Trace => match onward.leaving(material.mirror_halvings) {
+                    Some(halvings) => self.follow(&reflected, &onward, halvings),
                     None => Vec3::ZERO,
                 },
                 // Where `trace` stops, or finds nothing.

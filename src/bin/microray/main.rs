@@ -611,11 +611,18 @@ fn render<S: Scalar>(path: &Path, output: &Path, options: &Options) -> Result<()
     }
     let mut scene = empty_scene::<S>();
     load(path, &mut scene)?;
+    let name = shown(path, "<stdin>");
+    if !quiet {
+        let mut warnings = Vec::new();
+        scene.warnings(|w| warnings.push(format!("{name}: warning: {w}")));
+        for warning in warnings {
+            note(&warning)?;
+        }
+    }
     let renderer = Renderer::new(&scene)
         .with_shading(options.shading)
         .with_plan(options.planned);
     let start = Instant::now();
-    let name = shown(path, "<stdin>");
     if options.progressive {
         render_progressive(&renderer, output, format, options.depth, &name)?;
     } else {

@@ -74,8 +74,6 @@ use crate::vec3::Vec3;
 #[cfg(feature = "print")]
 use core::fmt;
 
-#[allow(missing_docs)]
-pub static EVALS: core::sync::atomic::AtomicU64 = core::sync::atomic::AtomicU64::new(0);
 /// Halvings of the interval at most while bracketing (the depth of the search's stack).
 pub const DEPTH: usize = 16;
 
@@ -395,7 +393,6 @@ impl<S: Scalar> Search<'_, S> {
     /// squares cancel).
     fn g(&mut self, t: S) -> S {
         self.evaluations += 1;
-        EVALS.fetch_add(1, core::sync::atomic::Ordering::Relaxed);
         let line = self.line;
         let p = line.w + line.d * t;
         let r = self.surface.radius(line.h0 + line.hd * t);

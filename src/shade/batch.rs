@@ -14,7 +14,7 @@
 //! order and would only gain memory traffic: the firmware leaves the feature out.
 
 use super::{
-    LightKind, MAX_DEPTH, Onward, Shader, mirror_ray, through_ray, with_behind, with_mirror,
+    LightKind, MAX_DEPTH, Onward, Path, Shader, mirror_ray, through_ray, with_behind, with_mirror,
 };
 use crate::camera::RowRays;
 use crate::light::Light;
@@ -45,9 +45,8 @@ struct Lane<S> {
     left: Option<usize>,
     /// The distance travelled before the ray.
     total: S,
-    depth: u8,
-    /// It weighs at most `2^-halvings` in its pixel (see [`Onward::leaving`]).
-    halvings: u8,
+    /// Its place in its pixel's tree.
+    path: Path,
     /// The object it meets first and where.
     hit: Option<(usize, S)>,
 }
@@ -73,8 +72,7 @@ impl<S: Scalar> Shader<'_, S> {
                     ray,
                     left: None,
                     total: S::ZERO,
-                    depth: 0,
-                    halvings: 0,
+                    path: Path::PRIMARY,
                     hit: None,
                 });
             });
@@ -93,7 +91,7 @@ impl<S: Scalar> Shader<'_, S> {
         if lanes.iter().flatten().count() < SPARSE {
             for (c, lane) in out.iter_mut().zip(lanes.iter()) {
                 *c = lane.map_or(Vec3::ZERO, |l| {
-                    self.trace_weighted(&l.ray, l.total, l.left, l.depth, l.halvings)
+                    self.trace_path(&l.ray, l.total, l.left, l.path)
                 });
             }
             return;
@@ -120,7 +118,7 @@ impl<S: Scalar> Shader<'_, S> {
         };
         for slot in lanes.iter_mut() {
             let Some(lane) = slot else { continue };
-            if lane.total > self.max_distance || lane.depth > MAX_DEPTH {
+            if lane.total > self.max_distance || lane.path.depth > MAX_DEPTH {
                 *slot = None;
                 continue;
             }
@@ -158,14 +156,7 @@ impl<S: Scalar> Shader<'_, S> {
                     *shade = Some(Shade {
                         ray: &lane.ray,
                         surface,
-                        onward: super::onward(
-                            &lane.ray,
-                            index,
-                            t,
-                            lane.total,
-                            lane.depth,
-                            lane.halvings,
-                        ),
+                        onward: super::onward(&lane.ray, index, t, lane.total, lane.path),
                     });
                 }
             }
@@ -321,9 +312,9 @@ impl<S: Scalar> Shader<'_, S> {
                 && let Some(coefficient) = leaves(self, shade.surface.material)
             {
                 any = true;
-                if let Some(halvings) = shade.onward.leaving(coefficient) {
+                if let Some(path) = shade.onward.path.leaving(coefficient) {
                     let leaving = ray(shade.ray, &shade.surface.hit, &shade.onward);
-                    *next = Some(follow(leaving, &shade.onward, halvings));
+                    *next = Some(follow(leaving, &shade.onward, path));
                     traced = true;
                 }
             }
@@ -389,15 +380,13 @@ fn lit<'a, 's, S: Scalar>(
         .filter_map(|(c, shade)| Some((c, shade.as_ref()?)))
 }
 
-/// The lane of a ray bounded by `2^-halvings` leaving a hit, as `onward` says (as
-/// [`Shader::follow`]).
-fn follow<S: Scalar>(ray: Ray<S>, onward: &Onward<S>, halvings: u8) -> Lane<S> {
+/// The lane of a ray at `path` leaving a hit, as `onward` says (as [`Shader::follow`]).
+fn follow<S: Scalar>(ray: Ray<S>, onward: &Onward<S>, path: Path) -> Lane<S> {
     Lane {
         ray,
         left: Some(onward.index),
         total: onward.total,
-        depth: onward.depth + 1,
-        halvings,
+        path,
         hit: None,
     }
 }

@@ -213,7 +213,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         // Nothing travelled yet: no bound to check.
         let found = closest_hit_among(self.objects, &among, ray, None, S::UNBOUNDED, self.z_limit);
         match found {
-            Some((index, t)) => self.shade(ray, index, t, S::ZERO, 0, 0),
+            Some((index, t)) => self.shade(ray, index, t, S::ZERO, Path::PRIMARY),
             None => Vec3::ZERO,
         }
     }
@@ -222,7 +222,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// tests were prepared (see [`crate::object::RowTest`]).
     pub fn primary_in_row(&self, ray: &Ray<S>, row: &[RowEntry<S>]) -> Vec3<S> {
         match closest_hit_in_row(self.objects, row, self.tree(), ray, self.z_limit) {
-            Some((index, t)) => self.shade(ray, index, t, S::ZERO, 0, 0),
+            Some((index, t)) => self.shade(ray, index, t, S::ZERO, Path::PRIMARY),
             None => Vec3::ZERO,
         }
     }
@@ -266,20 +266,18 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// The course's `trace`: `total` is the distance travelled so far, `left_from` the object
     /// the ray leaves.
     pub fn trace(&self, ray: &Ray<S>, total: S, left_from: Option<usize>, depth: u8) -> Vec3<S> {
-        self.trace_weighted(ray, total, left_from, depth, 0)
+        self.trace_path(ray, total, left_from, Path { depth, halvings: 0 })
     }
 
-    /// [`trace`](Self::trace) for a ray that weighs at most `2^-halvings` in its pixel (see
-    /// the module's docs).
-    pub(crate) fn trace_weighted(
+    /// [`trace`](Self::trace) for a ray at `path` in its pixel's tree (see [`Path`]).
+    pub(crate) fn trace_path(
         &self,
         ray: &Ray<S>,
         total: S,
         left_from: Option<usize>,
-        depth: u8,
-        halvings: u8,
+        path: Path,
     ) -> Vec3<S> {
-        self.trace_among(ray, &self.among, total, left_from, depth, halvings)
+        self.trace_among(ray, &self.among, total, left_from, path)
     }
 
     fn trace_among(
@@ -288,12 +286,11 @@ impl<'s, S: Scalar> Shader<'s, S> {
         among: &Among<'_, S>,
         total: S,
         left_from: Option<usize>,
-        depth: u8,
-        halvings: u8,
+        path: Path,
     ) -> Vec3<S> {
         #[cfg(all(test, feature = "std"))]
         tests::TRACED.with(|traced| traced.set(traced.get() + 1));
-        if total > self.max_distance || depth > MAX_DEPTH {
+        if total > self.max_distance || path.depth > MAX_DEPTH {
             return Vec3::ZERO;
         }
         let found = closest_hit_among(
@@ -305,24 +302,16 @@ impl<'s, S: Scalar> Shader<'s, S> {
             self.z_limit,
         );
         match found {
-            Some((index, t)) => self.shade(ray, index, t, total, depth, halvings),
+            Some((index, t)) => self.shade(ray, index, t, total, path),
             None => Vec3::ZERO,
         }
     }
 
     /// The colour where `ray`, having come `total` so far, meets object `index` at `t`:
     /// the object's own light, then what its mirror and its transparency let through
-    /// (`depth` and `halvings`: the ray's, see the module's docs).
+    /// (`path`: the ray's place in its pixel's tree).
     #[inline(never)]
-    fn shade(
-        &self,
-        ray: &Ray<S>,
-        index: usize,
-        t: S,
-        total: S,
-        depth: u8,
-        halvings: u8,
-    ) -> Vec3<S> {
+    fn shade(&self, ray: &Ray<S>, index: usize, t: S, total: S, path: Path) -> Vec3<S> {
         let Some(object) = self.objects.get(index) else {
             return Vec3::ZERO;
         };
@@ -332,14 +321,13 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let Some(surface) = found.as_ref() else {
             return Vec3::ZERO;
         };
-        let (c, onward) = self.own_light(ray, surface, index, t, total, depth, halvings);
+        let (c, onward) = self.own_light(ray, surface, index, t, total, path);
         self.beyond(c, ray, &surface.hit, surface.material, &onward)
     }
 
     /// The surface's own light where `ray`, having come `total` so far, meets it (object
     /// `index`) at `t`, divided by the distance travelled; and what the rays leaving it
     /// need.
-    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn own_light(
         &self,
@@ -348,10 +336,9 @@ impl<'s, S: Scalar> Shader<'s, S> {
         index: usize,
         t: S,
         total: S,
-        depth: u8,
-        halvings: u8,
+        path: Path,
     ) -> (Vec3<S>, Onward<S>) {
-        let onward = onward(ray, index, t, total, depth, halvings);
+        let onward = onward(ray, index, t, total, path);
         let c = if S::COURSE_ORDER {
             self.local(surface, index, ray.base) / onward.total
         } else {
@@ -372,8 +359,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
         onward: &Onward<S>,
     ) -> Vec3<S> {
         if self.mirrors(material) {
-            let seen = match onward.leaving(material.mirror_halvings) {
-                Some(halvings) => self.follow(&mirror_ray(ray, hit, onward), onward, halvings),
+            let seen = match onward.path.leaving(material.mirror_halvings) {
+                Some(path) => self.follow(&mirror_ray(ray, hit, onward), onward, path),
                 None => Vec3::ZERO,
             };
             c = with_mirror(c, seen, material);
@@ -392,8 +379,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
         onward: &Onward<S>,
     ) -> Vec3<S> {
         if self.transmits(material) {
-            let behind = match onward.leaving(material.filter_halvings) {
-                Some(halvings) => self.follow(&through_ray(ray, hit, onward), onward, halvings),
+            let behind = match onward.path.leaving(material.filter_halvings) {
+                Some(path) => self.follow(&through_ray(ray, hit, onward), onward, path),
                 None => Vec3::ZERO,
             };
             return with_behind(c, behind, material);
@@ -426,17 +413,10 @@ impl<'s, S: Scalar> Shader<'s, S> {
         cfg!(feature = "transparency") && self.stages.transparency
     }
 
-    /// The colour along a ray leaving a hit, weighing at most `2^-halvings`, as `onward`
-    /// says.
+    /// The colour along a ray leaving a hit at `path`, as `onward` says.
     #[inline(always)]
-    fn follow(&self, ray: &Ray<S>, onward: &Onward<S>, halvings: u8) -> Vec3<S> {
-        self.trace_weighted(
-            ray,
-            onward.total,
-            Some(onward.index),
-            onward.depth + 1,
-            halvings,
-        )
+    fn follow(&self, ray: &Ray<S>, onward: &Onward<S>, path: Path) -> Vec3<S> {
+        self.trace_path(ray, onward.total, Some(onward.index), path)
     }
 
     /// Ambient plus every light's contribution, before the division by distance: the
@@ -854,14 +834,7 @@ fn with_ambient<S: Scalar>(
 
 /// What the rays leaving object `index`, met at `t` by `ray` after `total`, need.
 #[inline(always)]
-fn onward<S: Scalar>(
-    ray: &Ray<S>,
-    index: usize,
-    t: S,
-    total: S,
-    depth: u8,
-    halvings: u8,
-) -> Onward<S> {
+fn onward<S: Scalar>(ray: &Ray<S>, index: usize, t: S, total: S, path: Path) -> Onward<S> {
     // The distance travelled: `t` for the unit rays of f64, `t |dir|` otherwise.
     let (len, travelled) = if S::COURSE_ORDER {
         (S::ONE, t)
@@ -873,8 +846,7 @@ fn onward<S: Scalar>(
         index,
         len,
         total: total + travelled,
-        depth,
-        halvings,
+        path,
     }
 }
 
@@ -975,19 +947,36 @@ struct Onward<S> {
     index: usize,
     len: S,
     total: S,
+    /// The place in its pixel's tree of the ray that met the hit.
+    path: Path,
+}
+
+/// Where a ray is in its pixel's tree: how deep, and a bound on its weight in the pixel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Path {
+    /// Mirror and glass bounces so far: 0 for a primary ray.
     depth: u8,
-    /// The ray that met the hit weighs at most `2^-halvings` in its pixel.
+    /// The ray weighs at most `2^-halvings` in its pixel (see the module's docs).
     halvings: u8,
 }
 
-impl<S: Scalar> Onward<S> {
-    /// The bound of a ray leaving the hit through a mirror or filter of `halvings` (see
+impl Path {
+    /// A primary ray's.
+    pub(crate) const PRIMARY: Path = Path {
+        depth: 0,
+        halvings: 0,
+    };
+
+    /// The path of a ray leaving a hit through a mirror or filter of `halvings` (see
     /// [`Material`]); `None` if the ray is negligible (it weighs less than 2^-16 of its
     /// pixel): it is not traced and adds black.
     #[inline(always)]
-    fn leaving(&self, halvings: u8) -> Option<u8> {
+    fn leaving(self, halvings: u8) -> Option<Path> {
         let bound = self.halvings.saturating_add(halvings);
-        (bound <= NEGLIGIBLE_HALVINGS).then_some(bound)
+        (bound <= NEGLIGIBLE_HALVINGS).then_some(Path {
+            depth: self.depth.saturating_add(1),
+            halvings: bound,
+        })
     }
 }
 

@@ -26,7 +26,7 @@
 //! decided) costs spec0 about a third of the per-pixel path on a Cortex-M4F.
 
 use super::{
-    MAX_DEPTH, NEGLIGIBLE_HALVINGS, Onward, Shader, add_diffuse, glint, in_cone, reflect,
+    MAX_DEPTH, NEGLIGIBLE_HALVINGS, Onward, Path, Shader, add_diffuse, glint, in_cone, reflect,
     with_ambient,
 };
 use crate::light::Light;
@@ -299,7 +299,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let first = row.levels.first().map(|level| level.index);
         match closest_hit_in_row(self.objects, tests, None, ray, self.z_limit) {
             Some((index, _)) if Some(index) == first => self.shade_testing_shadows(row, ray),
-            Some((index, t)) => self.shade(ray, index, t, S::ZERO, 0, 0),
+            Some((index, t)) => self.shade(ray, index, t, S::ZERO, Path::PRIMARY),
             None => Vec3::ZERO,
         }
     }
@@ -346,14 +346,16 @@ impl<'s, S: Scalar> Shader<'s, S> {
             index: level.index,
             len,
             total,
-            depth,
-            halvings: level.halvings,
+            path: Path {
+                depth,
+                halvings: level.halvings,
+            },
         };
         if cfg!(feature = "reflection") && level.mirror != Mirror::None {
             let reflected = Ray::with_length(hit.point, reflect(ray.dir, hit.normal), len);
             let seen = match level.mirror {
-                Mirror::Trace => match onward.leaving(material.mirror_halvings) {
-                    Some(halvings) => self.follow(&reflected, &onward, halvings),
+                Mirror::Trace => match onward.path.leaving(material.mirror_halvings) {
+                    Some(path) => self.follow(&reflected, &onward, path),
                     None => Vec3::ZERO,
                 },
                 // Where `trace` stops, or finds nothing.

@@ -305,7 +305,6 @@ pub(crate) fn read_material<S: Scalar>(input: &mut Reader<'_>) -> Result<Materia
         transparency,
         filter,
         reflects: specular != Vec3::ZERO,
-        mirror_halvings: crate::material::halvings(specular),
         filter_halvings: crate::material::halvings(filter),
     })
 }

@@ -91,10 +91,8 @@ pub struct Material<S> {
     pub filter: Vec3<S>,
     /// `specular` is not zero: kept so that a batch asks once, not per channel.
     pub(crate) reflects: bool,
-    /// How many times the strongest channel of `specular` can be halved and stay at or
-    /// above it: a mirror ray weighs at most `2^-mirror_halvings` of what reaches its hit.
-    pub(crate) mirror_halvings: u8,
-    /// The same for `filter`: a transmitted ray's bound.
+    /// How many times the strongest channel of `filter` can be halved and stay at or above
+    /// it: a transmitted ray weighs at most `2^-filter_halvings` of what reaches its hit.
     pub(crate) filter_halvings: u8,
 }
 
@@ -185,7 +183,6 @@ impl<S: Scalar> Material<S> {
             transparency,
             filter,
             reflects: specular != Vec3::ZERO,
-            mirror_halvings: halvings(specular),
             filter_halvings: halvings(filter),
         })
     }

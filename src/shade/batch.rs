@@ -167,7 +167,8 @@ impl<S: Scalar> Shader<'_, S> {
         // (Each stage asked first, so that a render without it does not even clear its
         // lanes.)
         if self.any_mirrors() {
-            let mirrors = |s: &Self, m: &Material<S>| s.mirrors(m).then_some(m.mirror_halvings);
+            // Mirror rays keep their bound (see `Path::mirrored`).
+            let mirrors = |s: &Self, m: &Material<S>| s.mirrors(m).then_some(0);
             self.leaving(&shades, out, mirrors, mirror_ray, with_mirror);
         }
         if self.any_transmits() {

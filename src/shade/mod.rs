@@ -24,16 +24,18 @@
 //! and lets light through, though most of them may count for nothing: with `transparency
 //! 1e-6`, what a ray through adds is multiplied by a filter of at most 1e-6. So each ray
 //! carries a bound on its weight in its pixel: the product of the strongest channels of
-//! the mirror (`specular`) and filter coefficients along its path is at most `2^-h`, `h`
-//! the sum of each coefficient's whole halvings (a material's `mirror_halvings` and
-//! `filter_halvings`, worked out in f64 at load: the same in every number type). A ray
-//! whose bound is below 2^-16 (`h` above [`NEGLIGIBLE_HALVINGS`]) is not traced: it adds
-//! black. What that leaves out of a pixel is below 2^-16 of what the ray would have seen,
-//! so below 1/256 of a level wherever that is below 1 (where the picture saturates). The
-//! cost is the number of paths worth about 2^-16 of their pixel or more: one mirror chain
-//! for a barely transparent mirror (issue 36: a 2^16 tree before), one integer addition and
-//! comparison a ray. The course's scenes have no such rays: their images are the same bit
-//! for bit.
+//! the filters it passed through is at most `2^-h`, `h` the sum of their whole halvings (a
+//! material's `filter_halvings`, worked out in f64 at load: the same in every number type).
+//! A ray through a filter whose bound falls below 2^-16 (`h` above [`NEGLIGIBLE_HALVINGS`])
+//! is not traced: it adds black. Mirror rays are always traced and keep the bound they
+//! came with: a mirror alone makes a chain, not a tree, and with `specular` at most 1 the
+//! bound still holds (a mirror above 1 amplifies what lies beyond it, and the bound is off
+//! by that factor). What a skipped ray leaves out of its pixel is below 2^-16 of what it
+//! would have seen, so below 1/256 of a level wherever that is below 1 (where the picture
+//! saturates). The cost is the number of paths worth about 2^-16 of their pixel or more:
+//! one mirror chain for a barely transparent mirror (issue 36: a 2^16 tree before); the
+//! check is one integer addition and comparison a ray through glass, none for a mirror
+//! ray. The course's scenes have no such rays: their images are the same bit for bit.
 
 use crate::bvh::Tree;
 use crate::light::Light;
@@ -359,11 +361,12 @@ impl<'s, S: Scalar> Shader<'s, S> {
         onward: &Onward<S>,
     ) -> Vec3<S> {
         if self.mirrors(material) {
-            let seen = match onward.path.leaving(material.mirror_halvings) {
-                Some(path) => self.follow(&mirror_ray(ray, hit, onward), onward, path),
-                None => Vec3::ZERO,
-            };
-            c = with_mirror(c, seen, material);
+            let reflected = mirror_ray(ray, hit, onward);
+            c = with_mirror(
+                c,
+                self.follow(&reflected, onward, onward.path.mirrored()),
+                material,
+            );
         }
         self.through(c, ray, hit, material, onward)
     }
@@ -967,9 +970,19 @@ impl Path {
         halvings: 0,
     };
 
-    /// The path of a ray leaving a hit through a mirror or filter of `halvings` (see
-    /// [`Material`]); `None` if the ray is negligible (it weighs less than 2^-16 of its
-    /// pixel): it is not traced and adds black.
+    /// The path of a mirror ray leaving a hit: one bounce deeper, the same bound (mirrors
+    /// make no tree of rays, so their weight is left out of the bound).
+    #[inline(always)]
+    fn mirrored(self) -> Path {
+        Path {
+            depth: self.depth.saturating_add(1),
+            halvings: self.halvings,
+        }
+    }
+
+    /// The path of a ray leaving a hit through a filter of `halvings` (see [`Material`]);
+    /// `None` if the ray is negligible (it weighs less than 2^-16 of its pixel): it is not
+    /// traced and adds black.
     #[inline(always)]
     fn leaving(self, halvings: u8) -> Option<Path> {
         let bound = self.halvings.saturating_add(halvings);

@@ -25,10 +25,7 @@
 //! The row's fast case ([`RowShading::plain`]: every ray on the plane, every shadow
 //! decided) costs spec0 about a third of the per-pixel path on a Cortex-M4F.
 
-use super::{
-    MAX_DEPTH, NEGLIGIBLE_HALVINGS, Onward, Path, Shader, add_diffuse, glint, in_cone, reflect,
-    with_ambient,
-};
+use super::{MAX_DEPTH, Onward, Path, Shader, add_diffuse, glint, in_cone, reflect, with_ambient};
 use crate::light::Light;
 use crate::object::{
     Among, Hit, RowEntry, RowOrigin, Surface, closest_hit_among, closest_hit_in_row, row_plane,
@@ -89,9 +86,6 @@ struct Level<'s, S: Scalar> {
     transparent: bool,
     /// Whether some lights' shadow rays are tested by each pixel.
     shadows_per_pixel: bool,
-    /// The level's rays weigh at most `2^-halvings` in their pixels (see
-    /// [`Onward::leaving`]).
-    halvings: u8,
 }
 
 /// The rays of one row meeting one plain plane at one `t`, and their mirror rays the next
@@ -155,7 +149,6 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let mut ray = Ray::new(origin.eye, Vec3::new(S::ZERO, origin.dy, origin.dz));
         let all_ignore_x = self.all_ignore_x();
         let mut levels = heapless::Vec::new();
-        let mut halvings = 0;
         loop {
             let object = self.objects.get(index)?;
             if !object.surface_is_uniform() {
@@ -183,11 +176,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 ambient: !surface.ambient.is_zero(),
                 transparent: self.transmits(material),
                 shadows_per_pixel: shadow_per_pixel,
-                halvings,
             };
-            // A negligible mirror ray adds black: no mirror, the same sum.
-            let mirror_halvings = halvings.saturating_add(material.mirror_halvings);
-            if !self.mirrors(material) || mirror_halvings > NEGLIGIBLE_HALVINGS {
+            if !self.mirrors(material) {
                 // Cannot fail: a level is added only below the capacity.
                 levels.push(level).ok()?;
                 break;
@@ -216,7 +206,6 @@ impl<'s, S: Scalar> Shader<'s, S> {
             level.mirror = Mirror::Level;
             levels.push(level).ok()?;
             (index, t) = (next_index, next_t);
-            halvings = mirror_halvings;
         }
         Some(RowShading { levels, tested })
     }
@@ -346,18 +335,13 @@ impl<'s, S: Scalar> Shader<'s, S> {
             index: level.index,
             len,
             total,
-            path: Path {
-                depth,
-                halvings: level.halvings,
-            },
+            // A row's levels are its primary rays and their mirror rays: bound 1.
+            path: Path { depth, halvings: 0 },
         };
         if cfg!(feature = "reflection") && level.mirror != Mirror::None {
             let reflected = Ray::with_length(hit.point, reflect(ray.dir, hit.normal), len);
             let seen = match level.mirror {
-                Mirror::Trace => match onward.path.leaving(material.mirror_halvings) {
-                    Some(path) => self.follow(&reflected, &onward, path),
-                    None => Vec3::ZERO,
-                },
+                Mirror::Trace => self.follow(&reflected, &onward, onward.path.mirrored()),
                 // Where `trace` stops, or finds nothing.
                 _ if total > self.max_distance || depth + 1 > MAX_DEPTH => Vec3::ZERO,
                 Mirror::Level => self.deeper_level(deeper, &reflected, total, depth + 1),

@@ -50,8 +50,9 @@
 //!    piece whose ends satisfy `|G(a)| + |G(b)| > L (b - a)` has no root. A sign change
 //!    brackets an odd number of roots, so a piece that shows one is split on until it
 //!    provably holds only one: `G` is convex along the ray (`G''` bounded below, checked
-//!    once a ray: rays more than 35 degrees off the axis) or monotonic on the piece (the
-//!    line's part of `G'` outweighs the profile's). Rays far from the surface are dismissed in a few evaluations; a ray
+//!    once a ray: rays more than 35 degrees off the axis), monotonic on the piece (the
+//!    line's part of `G'` outweighs the profile's), or curved one way on the piece (the
+//!    profile's curvature bounded from its values at the piece's ends). Rays far from the surface are dismissed in a few evaluations; a ray
 //!    grazing a silhouette is followed down to [`DEPTH`] halvings (1/65536 of the
 //!    interval): nothing is missed that the ray passes through for more than that.
 //! 3. Refinement: the Illinois variant of regula falsi on the bracket, until it stops
@@ -222,18 +223,25 @@ impl<S: Scalar> RevSurf<S> {
         }
     }
 
-    /// The radius at height `h` (scene units).
+    /// The radius at height `h` (scene units), and the profile's wave there: `cos x` for
+    /// the waist, `sin x` for the vase (`x = h / scale`), 0 for the cone.
     #[inline]
-    fn radius(&self, h: S) -> S {
+    fn radius(&self, h: S) -> (S, S) {
         let x = h * self.unscale;
         let half = S::SINE[0];
         match self.surfer {
             Surfer::Cone => {
                 let (four, two_thirds) = cone_constants::<S>();
-                (four * self.scale - two_thirds * h).max(S::ZERO)
+                ((four * self.scale - two_thirds * h).max(S::ZERO), S::ZERO)
             }
-            Surfer::Waist => (S::ONE + half * cos(x)) * self.scale,
-            Surfer::Vase => (S::ONE + half * x.sin()) * self.scale,
+            Surfer::Waist => {
+                let wave = cos(x);
+                ((S::ONE + half * wave) * self.scale, wave)
+            }
+            Surfer::Vase => {
+                let wave = x.sin();
+                ((S::ONE + half * wave) * self.scale, wave)
+            }
         }
     }
 
@@ -390,13 +398,13 @@ struct Search<'a, S> {
 
 impl<S: Scalar> Search<'_, S> {
     /// `G(t) = rho^2(t) - r(h(t))^2`, `rho` from the perpendicular offset (no large
-    /// squares cancel).
-    fn g(&mut self, t: S) -> S {
+    /// squares cancel), and the profile's wave at `t` (see [`RevSurf::radius`]).
+    fn g(&mut self, t: S) -> (S, S) {
         self.evaluations += 1;
         let line = self.line;
         let p = line.w + line.d * t;
-        let r = self.surface.radius(line.h0 + line.hd * t);
-        p.dot(p) - r * r
+        let (r, wave) = self.surface.radius(line.h0 + line.hd * t);
+        (p.dot(p) - r * r, wave)
     }
 
     /// A bound on `|G'|` over `[a, b]`.
@@ -409,11 +417,41 @@ impl<S: Scalar> Search<'_, S> {
     /// Whether `G` is convex along the whole ray, so that a piece whose ends differ in sign
     /// holds one root: `G'' = 2 A - hd^2 (r^2)''`, and `(r^2)''` is at most 3/4 for the
     /// vase and the waist and 8/9 for the cone (`r = scale rho(h / scale)`: the scales
-    /// cancel), so `2 A > hd^2` is enough. Rays more than 35 degrees off the axis: nearly
-    /// every ray of a vase seen from the side.
+    /// cancel), so `2 A > hd^2` is enough (the exact bound per profile measured no faster).
+    /// Rays more than 35 degrees off the axis: nearly every ray of a vase seen from the side.
     fn convex(&self) -> bool {
         let line = self.line;
         line.a * S::TWO > line.hd * line.hd
+    }
+
+    /// Whether `G` keeps the sign of its curvature on `[a, b]`, so that a piece whose ends
+    /// differ in sign holds one root (a convex or concave function crosses a level once
+    /// between points on either side of it). `G'' = 2 A - hd^2 P''(x)` with `P = rho^2`
+    /// the profile's square: for the vase and the waist `P'' = 1/2 - w - w^2` in the wave
+    /// `w` (`sin x`, `cos x`), whose range on the piece is bounded by its values at the ends
+    /// and the piece's length in `x` (a wave changes by at most its change in `x`); for the
+    /// cone `P''` is 8/9, or 0 past the apex.
+    fn curved_one_way(&self, a: S, wave_a: S, b: S, wave_b: S) -> bool {
+        let line = self.line;
+        let half = S::SINE[0];
+        let (low, high) = match self.surface.surfer {
+            Surfer::Cone => {
+                let three = S::ONE + S::TWO;
+                (S::ZERO, (S::TWO * S::TWO * S::TWO) / (three * three))
+            }
+            Surfer::Waist | Surfer::Vase => {
+                let reach = (b - a) * line.hd.abs() * self.surface.unscale;
+                let sum = wave_a + wave_b;
+                let lowest = ((sum - reach) * half).max(-S::ONE);
+                let highest = ((sum + reach) * half).min(S::ONE);
+                let p = |w: S| half - w - w * w;
+                // A parabola opening down, its top at w = -1/2.
+                let top = (-half).max(lowest).min(highest);
+                (p(lowest).min(p(highest)), p(top))
+            }
+        };
+        let (bend, curve) = (line.a * S::TWO, line.hd * line.hd);
+        bend > curve * high || bend < curve * low
     }
 
     /// Whether `G` is monotonic on `[a, b]`: `G' = 2 (A t + B) - 2 r r' hd`, whose line
@@ -435,17 +473,17 @@ impl<S: Scalar> Search<'_, S> {
             narrowest = narrowest * S::SINE[0];
         }
         // The right halves left behind, nearest last.
-        let mut stack: [(S, S); DEPTH] = [(S::ZERO, S::ZERO); DEPTH];
+        let mut stack: [(S, S, S); DEPTH] = [(S::ZERO, S::ZERO, S::ZERO); DEPTH];
         let mut depth = 0;
         let (mut a, mut b) = (low, high);
-        let mut ga = self.g(a);
+        let (mut ga, mut wave_a) = self.g(a);
         // The sign the ray starts with: outside (G > 0) or inside an open end (G < 0).
         let outside = ga > S::ZERO;
         // A limit inside the interval (a shadow ray's light, a nearer object): if no root
         // can lie before it, nothing below the limit will be found. Else the search goes on
         // over the whole interval, as without a limit.
         if limit < high {
-            let at_limit = self.g(limit);
+            let (at_limit, _) = self.g(limit);
             let same_side = if outside {
                 at_limit > S::ZERO
             } else {
@@ -455,7 +493,7 @@ impl<S: Scalar> Search<'_, S> {
                 return None;
             }
         }
-        let mut gb = self.g(b);
+        let (mut gb, mut wave_b) = self.g(b);
         // The nearest bracket found so far: refined if the budget runs out before every
         // piece to its left is settled.
         let mut known = None;
@@ -491,7 +529,11 @@ impl<S: Scalar> Search<'_, S> {
                 // A sign change brackets a root, but not necessarily the first one: three
                 // crossings have one too. Refined only where `G` is monotonic (one root)
                 // or the piece cannot be split further.
-                if !splits || convex || self.monotonic(a, b) {
+                if !splits
+                    || convex
+                    || self.monotonic(a, b)
+                    || self.curved_one_way(a, wave_a, b, wave_b)
+                {
                     return Some(self.refine(a, ga, b, gb));
                 }
                 known = Some((a, ga, b, gb));
@@ -501,16 +543,16 @@ impl<S: Scalar> Search<'_, S> {
                     return None;
                 }
                 depth -= 1;
-                let (next_b, next_gb) = stack.get(depth).copied()?;
-                (a, ga) = (b, gb);
-                (b, gb) = (next_b, next_gb);
+                let next = stack.get(depth).copied()?;
+                (a, ga, wave_a) = (b, gb, wave_b);
+                (b, gb, wave_b) = next;
                 continue;
             }
-            let gm = self.g(m);
+            let (gm, wave_m) = self.g(m);
             // Cannot fail: depth < DEPTH.
-            *stack.get_mut(depth)? = (b, gb);
+            *stack.get_mut(depth)? = (b, gb, wave_b);
             depth += 1;
-            (b, gb) = (m, gm);
+            (b, gb, wave_b) = (m, gm, wave_m);
         }
     }
 
@@ -531,7 +573,7 @@ impl<S: Scalar> Search<'_, S> {
                     break;
                 }
             }
-            let gm = self.g(m);
+            let (gm, _) = self.g(m);
             if (gm > S::ZERO) == (ga > S::ZERO) && gm != S::ZERO {
                 (a, ga) = (m, gm);
                 if kept == 1 {

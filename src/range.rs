@@ -70,6 +70,11 @@ impl Extent {
         values.iter().fold(0.0, |m: f64, v| m.max(libm::fabs(*v)))
     }
 
+    /// Takes in a position `p` (attribute `attr`).
+    fn place(&mut self, p: [f64; 3], attr: Attr) {
+        self.point(p, attr, 0.0, attr);
+    }
+
     /// Takes in a position `p` (attribute `attr`) and what reaches `reach` about it
     /// (attribute `reach_attr`: a radius, a rectangle's sides).
     fn point(&mut self, p: [f64; 3], attr: Attr, reach: f64, reach_attr: Attr) {
@@ -94,20 +99,15 @@ impl Extent {
     pub(crate) fn include(&mut self, item: &Item<'_>) {
         match item {
             Item::Camera(c) => {
-                self.point(c.viewpoint, Attr::Viewpoint, 0.0, Attr::Viewpoint);
-                self.point(
-                    [c.worlddim[0], c.worlddim[1], 0.0],
-                    Attr::Worlddim,
-                    0.0,
-                    Attr::Worlddim,
-                );
+                self.place(c.viewpoint, Attr::Viewpoint);
+                self.place([c.worlddim[0], c.worlddim[1], 0.0], Attr::Worlddim);
                 c.worlddim.iter().for_each(|&w| self.length(w));
             }
             Item::Light(l) => {
-                self.point(l.location, Attr::Location, 0.0, Attr::Location);
+                self.place(l.location, Attr::Location);
                 self.emission = self.emission.max(Self::brightest(l.emissivity));
                 if let Some(spot) = &l.spot {
-                    self.point(spot.point, Attr::Point, 0.0, Attr::Point);
+                    self.place(spot.point, Attr::Point);
                 }
                 if let Some(slide) = &l.slide {
                     let r = &slide.rect;
@@ -126,7 +126,7 @@ impl Extent {
             }
             Item::Texture { .. } => {}
             Item::Object(o) => match &o.shape {
-                ShapeDef::Plane(p) => self.point(p.point, Attr::Point, 0.0, Attr::Point),
+                ShapeDef::Plane(p) => self.place(p.point, Attr::Point),
                 ShapeDef::Sphere(s) => {
                     self.point(s.center, Attr::Center, s.radius, Attr::Radius);
                     self.length(s.radius);
@@ -208,15 +208,9 @@ fn whole(x: f64) -> u64 {
     libm::round(x) as u64
 }
 
-/// The exponent of a power of two, `x = 2^k` (the largest `k` with `2^k <= x`).
+/// The largest `k` with `2^k <= x`, for `x` at least 1 (0 below).
 fn log2(x: f64) -> u16 {
-    let mut k = 0;
-    let mut p = 2.0;
-    while p <= x && k < 2048 {
-        p *= 2.0;
-        k += 1;
-    }
-    k
+    u16::try_from(libm::ilogb(x)).unwrap_or(0)
 }
 
 /// Measures a scene file (without loading textures).

@@ -52,9 +52,10 @@
 //!    provably holds only one: `G` is convex along the ray (`G''` bounded below, checked
 //!    once a ray: rays more than 35 degrees off the axis), monotonic on the piece (the
 //!    line's part of `G'` outweighs the profile's), or curved one way on the piece (the
-//!    profile's curvature bounded from its values at the piece's ends). Rays far from the surface are dismissed in a few evaluations; a ray
-//!    grazing a silhouette is followed down to [`DEPTH`] halvings (1/65536 of the
-//!    interval): nothing is missed that the ray passes through for more than that.
+//!    profile's curvature bounded from its values at the piece's ends). Rays far from the
+//!    surface are dismissed in a few evaluations; a ray grazing a silhouette is followed
+//!    down to [`DEPTH`] halvings (1/65536 of the interval): nothing is missed that the ray
+//!    passes through for more than that.
 //! 3. Refinement: the Illinois variant of regula falsi on the bracket, until it stops
 //!    shrinking; the hit is the end on the ray's side (no acne: the point is never inside).
 //!
@@ -337,6 +338,17 @@ impl<S: Scalar> RevSurf<S> {
     };
 }
 
+/// Whether `g`, a value of `G`, is across the surface from a ray that starts `outside`
+/// (`G > 0`) or inside an open end (`G < 0`): zero counts as across.
+#[inline]
+fn crossed<S: Scalar>(outside: bool, g: S) -> bool {
+    if outside {
+        !(g > S::ZERO)
+    } else {
+        !(g < S::ZERO)
+    }
+}
+
 /// `sin(x)` and `cos(x)`.
 #[inline]
 fn sin_cos<S: Scalar>(x: S) -> (S, S) {
@@ -414,6 +426,12 @@ impl<S: Scalar> Search<'_, S> {
         S::TWO * (ends + self.surface.steepest * line.hd.abs())
     }
 
+    /// Whether `G` has no root on `[a, b]`, from its values at the ends: `|G'| <= L`
+    /// there, so a root would need `|G(a)| + |G(b)| <= L (b - a)`.
+    fn root_free(&self, a: S, ga: S, b: S, gb: S) -> bool {
+        ga.abs() + gb.abs() > self.slope_bound(a, b) * (b - a)
+    }
+
     /// Whether `G` is convex along the whole ray, so that a piece whose ends differ in sign
     /// holds one root: `G'' = 2 A - hd^2 (r^2)''`, and `(r^2)''` is at most 3/4 for the
     /// vase and the waist and 8/9 for the cone (`r = scale rho(h / scale)`: the scales
@@ -484,12 +502,7 @@ impl<S: Scalar> Search<'_, S> {
         // over the whole interval, as without a limit.
         if limit < high {
             let (at_limit, _) = self.g(limit);
-            let same_side = if outside {
-                at_limit > S::ZERO
-            } else {
-                at_limit < S::ZERO
-            };
-            if same_side && ga.abs() + at_limit.abs() > self.slope_bound(a, limit) * (limit - a) {
+            if !crossed(outside, at_limit) && self.root_free(a, ga, limit, at_limit) {
                 return None;
             }
         }
@@ -507,11 +520,6 @@ impl<S: Scalar> Search<'_, S> {
                 let (a, ga, b, gb) = known?;
                 return Some(self.refine(a, ga, b, gb));
             }
-            let crossed = if outside {
-                !(gb > S::ZERO)
-            } else {
-                !(gb < S::ZERO)
-            };
             // The first split is at the ray's closest approach to the axis, if it is inside:
             // where a ray grazing a silhouette touches the surface; then halves.
             let closest = if depth == 0 && self.line.a > S::ZERO {
@@ -525,10 +533,10 @@ impl<S: Scalar> Search<'_, S> {
                 a + (b - a) * S::SINE[0]
             };
             let splits = depth < DEPTH && b - a > narrowest && m > a && m < b;
-            if crossed {
+            if crossed(outside, gb) {
                 // A sign change brackets a root, but not necessarily the first one: three
-                // crossings have one too. Refined only where `G` is monotonic (one root)
-                // or the piece cannot be split further.
+                // crossings have one too. Refined only where the piece provably holds one
+                // (see the module's docs) or cannot be split further.
                 if !splits
                     || convex
                     || self.monotonic(a, b)
@@ -537,7 +545,7 @@ impl<S: Scalar> Search<'_, S> {
                     return Some(self.refine(a, ga, b, gb));
                 }
                 known = Some((a, ga, b, gb));
-            } else if !splits || ga.abs() + gb.abs() > self.slope_bound(a, b) * (b - a) {
+            } else if !splits || self.root_free(a, ga, b, gb) {
                 // No root in [a, b]: on to the right half left behind.
                 if depth == 0 {
                     return None;

@@ -167,13 +167,14 @@ impl<S: Scalar> Shader<'_, S> {
         // (Each stage asked first, so that a render without it does not even clear its
         // lanes.)
         if self.any_mirrors() {
-            // Mirror rays keep their bound (see `Path::mirrored`).
-            let mirrors = |s: &Self, m: &Material<S>| s.mirrors(m).then_some(0);
-            self.leaving(&shades, out, mirrors, mirror_ray, with_mirror);
+            let mirrors = |s: &Self, m: &Material<S>| s.mirrors(m);
+            let path = |p: Path, _: &Material<S>| Some(p.mirrored());
+            self.leaving(&shades, out, mirrors, path, mirror_ray, with_mirror);
         }
         if self.any_transmits() {
-            let through = |s: &Self, m: &Material<S>| s.transmits(m).then_some(m.filter_halvings);
-            self.leaving(&shades, out, through, through_ray, with_behind);
+            let through = |s: &Self, m: &Material<S>| s.transmits(m);
+            let path = |p: Path, m: &Material<S>| p.leaving(m.filter_halvings);
+            self.leaving(&shades, out, through, path, through_ray, with_behind);
         }
     }
 
@@ -294,15 +295,17 @@ impl<S: Scalar> Shader<'_, S> {
         }
     }
 
-    /// Traces the rays leaving the shaded hits whose material `leaves` says so (it gives
-    /// their coefficient's halvings, see [`Material`]; `ray` makes them) and adds what they see to
-    /// their colours in `out` (as `add` says; black for a negligible ray, not traced).
+    /// Traces the rays leaving the shaded hits whose material `leaves` says so (`path`
+    /// gives their place in the pixel's tree, `None` for a negligible ray, which adds black
+    /// untraced; `ray` makes them) and adds what they see to their colours in `out` (as
+    /// `add` says).
     #[inline(always)]
     fn leaving(
         &self,
         shaded: &Shaded<'_, '_, S>,
         out: &mut [Vec3<S>; BATCH],
-        leaves: impl Fn(&Self, &Material<S>) -> Option<u8>,
+        leaves: impl Fn(&Self, &Material<S>) -> bool,
+        path: impl Fn(Path, &Material<S>) -> Option<Path>,
         ray: impl Fn(&Ray<S>, &Hit<S>, &Onward<S>) -> Ray<S>,
         add: impl Fn(Vec3<S>, Vec3<S>, &Material<S>) -> Vec3<S>,
     ) {
@@ -310,10 +313,10 @@ impl<S: Scalar> Shader<'_, S> {
         let (mut any, mut traced) = (false, false);
         for (next, shade) in next.iter_mut().zip(shaded) {
             if let Some(shade) = shade
-                && let Some(coefficient) = leaves(self, shade.surface.material)
+                && leaves(self, shade.surface.material)
             {
                 any = true;
-                if let Some(path) = shade.onward.path.leaving(coefficient) {
+                if let Some(path) = path(shade.onward.path, shade.surface.material) {
                     let leaving = ray(shade.ray, &shade.surface.hit, &shade.onward);
                     *next = Some(follow(leaving, &shade.onward, path));
                     traced = true;
@@ -330,7 +333,7 @@ impl<S: Scalar> Shader<'_, S> {
         // The same test as above (`trace_lanes` drops the lanes it stops: they add black).
         for ((c, seen), shade) in out.iter_mut().zip(&seen).zip(shaded) {
             if let Some(shade) = shade
-                && leaves(self, shade.surface.material).is_some()
+                && leaves(self, shade.surface.material)
             {
                 *c = add(*c, *seen, shade.surface.material);
             }

@@ -97,6 +97,23 @@ fn v3(v: [f64; 3]) -> String {
     format!("{} {} {}", v[0], v[1], v[2])
 }
 
+/// A `sphere` block.
+fn sphere(name: &str, material: &str, center: [f64; 3], radius: f64) -> String {
+    format!(
+        "sphere {name}\n{{\n  material {material}\n  center {}\n  radius {radius}\n}}\n",
+        v3(center)
+    )
+}
+
+/// A `plane` block.
+fn plane(name: &str, material: &str, normal: [f64; 3], point: [f64; 3]) -> String {
+    format!(
+        "plane {name}\n{{\n  material {material}\n  normal {}\n  point {}\n}}\n",
+        v3(normal),
+        v3(point)
+    )
+}
+
 fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
 }
@@ -287,20 +304,13 @@ pub fn scene(seed: u64) -> Generated {
                 let normal = rng.direction();
                 let point = layout.point(rng, 0.0, 2.0);
                 layout.planes.push((normal, point));
-                format!(
-                    "plane p{o}\n{{\n  material {material}\n  normal {}\n  point {}\n}}\n",
-                    v3(normal),
-                    v3(point)
-                )
+                plane(&format!("p{o}"), &material, normal, point)
             }
             1 => {
                 let center = layout.point(rng, 0.2, 2.0);
                 let radius = rng.log_range(0.03, 0.5) * size;
                 layout.spheres.push((center, radius));
-                format!(
-                    "sphere s{o}\n{{\n  material {material}\n  center {}\n  radius {radius}\n}}\n",
-                    v3(center)
-                )
+                sphere(&format!("s{o}"), &material, center, radius)
             }
             2 => format!(
                 "fplane f{o}\n{{\n  material {material}\n{}}}\n",
@@ -340,38 +350,29 @@ pub fn scene(seed: u64) -> Generated {
             let d = unit(rng.direction());
             let r = rng.log_range(0.1, 2.0) * radius;
             let c = add(center, scale(d, radius + r));
-            layout.blocks.push(format!(
-                "sphere touching\n{{\n  material {}\n  center {}\n  radius {r}\n}}\n",
-                layout.material(rng),
-                v3(c)
-            ));
+            layout
+                .blocks
+                .push(sphere("touching", &layout.material(rng), c, r));
         }
         if flag(rng, 0.08, "intersecting spheres") {
             let c = add(center, scale(unit(rng.direction()), radius * 0.5));
-            layout.blocks.push(format!(
-                "sphere cutting\n{{\n  material {}\n  center {}\n  radius {radius}\n}}\n",
-                layout.material(rng),
-                v3(c)
-            ));
+            layout
+                .blocks
+                .push(sphere("cutting", &layout.material(rng), c, radius));
         }
     }
     if flag(rng, 0.05, "tiny sphere") {
         let c = layout.point(rng, 0.5, 0.5);
-        layout.blocks.push(format!(
-            "sphere tiny\n{{\n  material {}\n  center {}\n  radius {}\n}}\n",
-            layout.material(rng),
-            v3(c),
-            size * 1e-4
-        ));
+        layout
+            .blocks
+            .push(sphere("tiny", &layout.material(rng), c, size * 1e-4));
     }
     if flag(rng, 0.05, "huge sphere") {
         let r = size * rng.log_range(10.0, 1e3);
         let c = add(layout.point(rng, 1.0, 1.0), [0.0, -r - size, 0.0]);
-        layout.blocks.push(format!(
-            "sphere huge\n{{\n  material {}\n  center {}\n  radius {r}\n}}\n",
-            layout.material(rng),
-            v3(c)
-        ));
+        layout
+            .blocks
+            .push(sphere("huge", &layout.material(rng), c, r));
     }
     if !layout.blocks.is_empty() && flag(rng, 0.05, "duplicated object") {
         let copy = layout.blocks[rng.below(layout.blocks.len())].replacen('\n', "_again\n", 1);
@@ -383,29 +384,24 @@ pub fn scene(seed: u64) -> Generated {
         // The same plane, its normal scaled and its point moved along it.
         let along = cross(normal, [0.3, 0.5, 0.7]);
         let p = add(point, scale(along, rng.range(-1.0, 1.0)));
-        layout.blocks.push(format!(
-            "plane same\n{{\n  material {}\n  normal {}\n  point {}\n}}\n",
-            layout.material(rng),
-            v3(scale(normal, 2.0)),
-            v3(p)
-        ));
+        let material = layout.material(rng);
+        layout
+            .blocks
+            .push(plane("same", &material, scale(normal, 2.0), p));
     }
     if flag(rng, 0.05, "plane through the eye") {
-        layout.blocks.push(format!(
-            "plane through_eye\n{{\n  material {}\n  normal {}\n  point {}\n}}\n",
-            layout.material(rng),
-            v3(rng.direction()),
-            v3(eye)
-        ));
+        // The material first, then the normal: the order the seeds were drawn in.
+        let material = layout.material(rng);
+        layout
+            .blocks
+            .push(plane("through_eye", &material, rng.direction(), eye));
     }
     if flag(rng, 0.05, "eye in a sphere") {
         let r = size * rng.range(0.2, 2.0);
         let c = add(eye, scale(unit(rng.direction()), r * rng.range(0.0, 0.9)));
-        layout.blocks.push(format!(
-            "sphere around_eye\n{{\n  material {}\n  center {}\n  radius {r}\n}}\n",
-            layout.material(rng),
-            v3(c)
-        ));
+        layout
+            .blocks
+            .push(sphere("around_eye", &layout.material(rng), c, r));
     }
     for block in &layout.blocks {
         text.push_str(block);

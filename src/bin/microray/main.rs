@@ -395,9 +395,17 @@ fn check(path: &Path) -> Result<(), Stop> {
         count(s.objects().len(), "object"),
         plan_summary(&Renderer::new(&s)),
     ))?;
-    let mut warnings = String::new();
-    s.warnings(|w| warnings.push_str(&format!("{}: warning: {w}\n", shown(path, "<stdin>"))));
-    say(&warnings)
+    for line in warnings(&s, &shown(path, "<stdin>")) {
+        say(&format!("{line}\n"))?;
+    }
+    Ok(())
+}
+
+/// The scene's warnings (see `microray::warning`), a line each, for the file `name`.
+fn warnings<S: Scalar>(scene: &HostScene<'_, S>, name: &str) -> Vec<String> {
+    let mut lines = Vec::new();
+    scene.warnings(|w| lines.push(format!("{name}: warning: {w}")));
+    lines
 }
 
 /// One line on what the render plan skips.
@@ -613,10 +621,8 @@ fn render<S: Scalar>(path: &Path, output: &Path, options: &Options) -> Result<()
     load(path, &mut scene)?;
     let name = shown(path, "<stdin>");
     if !quiet {
-        let mut warnings = Vec::new();
-        scene.warnings(|w| warnings.push(format!("{name}: warning: {w}")));
-        for warning in warnings {
-            note(&warning)?;
+        for line in warnings(&scene, &name) {
+            note(&line)?;
         }
     }
     let renderer = Renderer::new(&scene)

@@ -43,7 +43,9 @@
 //!    discriminant in the perpendicular form `A R^2 - ((w x d) . a)^2`), ahead of the ray's
 //!    base. Not cut at the caller's `limit`: the pieces searched, and so the crossing found,
 //!    are the same whatever the limit (whichever object was tested first); the search stops
-//!    at the first piece that begins beyond the limit.
+//!    at the first piece that begins beyond the limit. The cylinder is tested first and
+//!    has no division: most rays that get here (shadow rays passing beside the surface)
+//!    stop at it.
 //! 2. Bracketing: the interval is split in halves, left first, until a piece shows a sign
 //!    change or is proved free of roots: `|G'| <= L` on a piece (`L` from the line's
 //!    `|d(rho^2)/dt| = 2 |A t + B|` at the ends and the profile's largest `|r r'|`), so a
@@ -266,8 +268,8 @@ impl<S: Scalar> RevSurf<S> {
     /// only up to `limit`: what it finds does not depend on the limit (and so on which
     /// object was tested first), only whether it is kept does.
     fn nearest_along(&self, base: Vec3<S>, dir: Vec3<S>, limit: S) -> Option<S> {
-        let line = Line::new(self, base, dir);
-        let (low, high) = self.interval(&line)?;
+        let (line, span) = Line::within_reach(self, base, dir)?;
+        let (low, high) = self.interval(&line, span)?;
         if !(low < limit) {
             return None;
         }
@@ -279,12 +281,9 @@ impl<S: Scalar> RevSurf<S> {
         ahead(search.first_root(low, high, limit)?, limit)
     }
 
-    /// Where the ray is within the slab `0 <= h <= height` and the bounding cylinder, and
-    /// ahead of its base.
-    fn interval(&self, line: &Line<S>) -> Option<(S, S)> {
-        let mut low = S::ZERO;
-        let mut high = S::UNBOUNDED;
-        // The slab.
+    /// Where the ray is within the slab `0 <= h <= height` and `span`, where it is within
+    /// the bounding cylinder and ahead of its base.
+    fn interval(&self, line: &Line<S>, (mut low, mut high): (S, S)) -> Option<(S, S)> {
         if line.hd == S::ZERO {
             if line.h0 < S::ZERO || line.h0 > self.height {
                 return None;
@@ -294,21 +293,6 @@ impl<S: Scalar> RevSurf<S> {
             let (near, far) = if a < b { (a, b) } else { (b, a) };
             low = low.max(near);
             high = high.min(far);
-        }
-        // The cylinder: A t^2 + 2 B t + C <= R^2.
-        let reach2 = self.reach * self.reach;
-        if line.a > S::ZERO {
-            let discriminant = line.a * reach2 - line.q * line.q;
-            if !(discriminant > S::ZERO) {
-                return None;
-            }
-            let root = discriminant.sqrt();
-            let (near, far) = ((-line.b - root) / line.a, (-line.b + root) / line.a);
-            low = low.max(near);
-            high = high.min(far);
-        } else if line.w.dot(line.w) > reach2 {
-            // Along the axis, outside the cylinder.
-            return None;
         }
         (low < high).then_some((low, high))
     }
@@ -377,27 +361,44 @@ struct Line<S> {
     /// `|d_perp|^2` and `w_perp . d_perp`: `rho^2(t) = A t^2 + 2 B t + C`.
     a: S,
     b: S,
-    /// `(w x d) . axis`: `B^2 - A C = -q^2`.
-    q: S,
 }
 
 impl<S: Scalar> Line<S> {
-    fn new(surface: &RevSurf<S>, base: Vec3<S>, dir: Vec3<S>) -> Self {
+    /// The ray in the axis' frame and the span of `t >= 0` where it is within the
+    /// bounding cylinder (`A t^2 + 2 B t + C <= R^2`), if it comes within it. Most rays
+    /// that get here miss the cylinder (shadow rays towards a light beside the surface):
+    /// they are turned away before the rest of the line is worked out, without a division.
+    #[inline]
+    fn within_reach(surface: &RevSurf<S>, base: Vec3<S>, dir: Vec3<S>) -> Option<(Self, (S, S))> {
         let axis = surface.axis;
         let offset = base - surface.base;
         let h0 = offset.dot(axis);
         let hd = dir.dot(axis);
         let w = offset - axis * h0;
         let d = dir - axis * hd;
-        Self {
-            w,
-            d,
-            h0,
-            hd,
-            a: d.dot(d),
-            b: w.dot(d),
-            q: w.cross(d).dot(axis),
-        }
+        let a = d.dot(d);
+        let reach2 = surface.reach * surface.reach;
+        let (mut low, mut high) = (S::ZERO, S::UNBOUNDED);
+        let b = if a > S::ZERO {
+            // `B^2 - A C = -q^2` with `q = (w x d) . axis`: no large squares cancel.
+            let q = w.cross(d).dot(axis);
+            let discriminant = a * reach2 - q * q;
+            if !(discriminant > S::ZERO) {
+                return None;
+            }
+            let b = w.dot(d);
+            let root = discriminant.sqrt();
+            let (near, far) = ((-b - root) / a, (-b + root) / a);
+            low = low.max(near);
+            high = high.min(far);
+            b
+        } else if w.dot(w) > reach2 {
+            // Along the axis, outside the cylinder.
+            return None;
+        } else {
+            w.dot(d)
+        };
+        Some((Self { w, d, h0, hd, a, b }, (low, high)))
     }
 }
 
@@ -485,16 +486,7 @@ impl<S: Scalar> Search<'_, S> {
     /// pieces are those of the whole interval whatever the limit (so the crossing found is
     /// too); the search stops at the first piece that begins beyond the limit.
     fn first_root(&mut self, low: S, high: S, limit: S) -> Option<S> {
-        // Pieces narrower than this are not split: DEPTH halvings of the interval.
-        let mut narrowest = high - low;
-        for _ in 0..DEPTH {
-            narrowest = narrowest * S::SINE[0];
-        }
-        // The right halves left behind, nearest last.
-        let mut stack: [(S, S, S); DEPTH] = [(S::ZERO, S::ZERO, S::ZERO); DEPTH];
-        let mut depth = 0;
-        let (mut a, mut b) = (low, high);
-        let (mut ga, mut wave_a) = self.g(a);
+        let (ga, wave_a) = self.g(low);
         // The sign the ray starts with: outside (G > 0) or inside an open end (G < 0).
         let outside = ga > S::ZERO;
         // A limit inside the interval (a shadow ray's light, a nearer object): if no root
@@ -502,65 +494,33 @@ impl<S: Scalar> Search<'_, S> {
         // over the whole interval, as without a limit.
         if limit < high {
             let (at_limit, _) = self.g(limit);
-            if !crossed(outside, at_limit) && self.root_free(a, ga, limit, at_limit) {
+            if !crossed(outside, at_limit) && self.root_free(low, ga, limit, at_limit) {
                 return None;
             }
         }
-        let (mut gb, mut wave_b) = self.g(b);
-        // The nearest bracket found so far: refined if the budget runs out before every
-        // piece to its left is settled.
-        let mut known = None;
-        let convex = self.convex();
-        loop {
-            // Every piece left of this one is settled: any crossing left is beyond the limit.
-            if !(a < limit) {
-                return None;
-            }
-            if self.evaluations >= MAX_BRACKETING {
-                let (a, ga, b, gb) = known?;
-                return Some(self.refine(a, ga, b, gb));
-            }
-            // The first split is at the ray's closest approach to the axis, if it is inside:
-            // where a ray grazing a silhouette touches the surface; then halves.
-            let closest = if depth == 0 && self.line.a > S::ZERO {
-                -self.line.b / self.line.a
-            } else {
-                a
-            };
-            let m = if closest > a && closest < b {
-                closest
-            } else {
-                a + (b - a) * S::SINE[0]
-            };
-            let splits = depth < DEPTH && b - a > narrowest && m > a && m < b;
-            if crossed(outside, gb) {
-                // A sign change brackets a root, but not necessarily the first one: three
-                // crossings have one too. Refined only where the piece provably holds one
-                // (see the module's docs) or cannot be split further.
-                if !splits
-                    || convex
-                    || self.monotonic(a, b)
-                    || self.curved_one_way(a, wave_a, b, wave_b)
-                {
-                    return Some(self.refine(a, ga, b, gb));
-                }
-                known = Some((a, ga, b, gb));
-            } else if !splits || self.root_free(a, ga, b, gb) {
-                // No root in [a, b]: on to the right half left behind.
-                if depth == 0 {
-                    return None;
-                }
-                depth -= 1;
-                let next = stack.get(depth).copied()?;
-                (a, ga, wave_a) = (b, gb, wave_b);
-                (b, gb, wave_b) = next;
-                continue;
-            }
-            let (gm, wave_m) = self.g(m);
-            // Cannot fail: depth < DEPTH.
-            *stack.get_mut(depth)? = (b, gb, wave_b);
-            depth += 1;
-            (b, gb, wave_b) = (m, gm, wave_m);
+        let (gb, wave_b) = self.g(high);
+        let pieces = Pieces {
+            outside,
+            convex: self.convex(),
+            // Pieces narrower than this are not split: DEPTH halvings of the interval.
+            narrowest: (0..DEPTH).fold(high - low, |width, _| width * S::SINE[0]),
+            limit,
+        };
+        // The whole interval is judged before the stack of pieces exists: a third of the
+        // rays that get here are settled on it, and the stack costs a fill.
+        // (`low < limit`: the caller checked.)
+        let first = Piece {
+            a: low,
+            ga,
+            wave_a,
+            b: high,
+            gb,
+            wave_b,
+        };
+        match pieces.judge(self, &first, 0) {
+            Verdict::Root => Some(self.refine(low, ga, high, gb)),
+            Verdict::Empty => None,
+            Verdict::Split(m, known) => pieces.split(self, first, m, known),
         }
     }
 
@@ -597,6 +557,139 @@ impl<S: Scalar> Search<'_, S> {
             }
         }
         a
+    }
+}
+
+/// A piece `[a, b]` of a ray's interval, with `G` and the profile's wave at its ends.
+#[derive(Clone, Copy)]
+struct Piece<S> {
+    a: S,
+    ga: S,
+    wave_a: S,
+    b: S,
+    gb: S,
+    wave_b: S,
+}
+
+/// What a piece holds, as far as its ends tell.
+enum Verdict<S> {
+    /// Exactly one crossing, or it cannot be split further: refine it.
+    Root,
+    /// No crossing.
+    Empty,
+    /// Split it at the point; `true` if it is crossed (a bracket to fall back on).
+    Split(S, bool),
+}
+
+/// The rules of one ray's search over its pieces.
+struct Pieces<S> {
+    outside: bool,
+    convex: bool,
+    narrowest: S,
+    limit: S,
+}
+
+impl<S: Scalar> Pieces<S> {
+    /// Judges a piece at `depth` halvings.
+    fn judge(&self, search: &Search<'_, S>, piece: &Piece<S>, depth: usize) -> Verdict<S> {
+        let Piece {
+            a,
+            ga,
+            wave_a,
+            b,
+            gb,
+            wave_b,
+        } = *piece;
+        let crossed = crossed(self.outside, gb);
+        if crossed && self.convex {
+            return Verdict::Root;
+        }
+        // The first split is at the ray's closest approach to the axis, if it is inside:
+        // where a ray grazing a silhouette touches the surface; then halves.
+        let line = search.line;
+        let closest = if depth == 0 && line.a > S::ZERO {
+            -line.b / line.a
+        } else {
+            a
+        };
+        let m = if closest > a && closest < b {
+            closest
+        } else {
+            a + (b - a) * S::SINE[0]
+        };
+        let splits = depth < DEPTH && b - a > self.narrowest && m > a && m < b;
+        if crossed {
+            // A sign change brackets a root, but not necessarily the first one: three
+            // crossings have one too. Refined only where the piece provably holds one
+            // (see the module's docs) or cannot be split further.
+            if !splits || search.monotonic(a, b) || search.curved_one_way(a, wave_a, b, wave_b) {
+                return Verdict::Root;
+            }
+            Verdict::Split(m, true)
+        } else if !splits || search.root_free(a, ga, b, gb) {
+            Verdict::Empty
+        } else {
+            Verdict::Split(m, false)
+        }
+    }
+
+    /// Goes on from a piece to split at `m`: pieces left to right, the right halves left
+    /// behind on a stack, until one holds the first crossing or every piece before the
+    /// limit is empty.
+    fn split(
+        &self,
+        search: &mut Search<'_, S>,
+        mut piece: Piece<S>,
+        mut m: S,
+        crossed: bool,
+    ) -> Option<S> {
+        // The right halves left behind, nearest last.
+        let mut stack: [(S, S, S); DEPTH] = [(S::ZERO, S::ZERO, S::ZERO); DEPTH];
+        let mut depth = 0;
+        // The nearest bracket found so far: refined if the budget runs out before every
+        // piece to its left is settled.
+        let mut known = crossed.then_some(piece);
+        loop {
+            let (gm, wave_m) = search.g(m);
+            // Cannot fail: a piece is split only at depth < DEPTH.
+            *stack.get_mut(depth)? = (piece.b, piece.gb, piece.wave_b);
+            depth += 1;
+            (piece.b, piece.gb, piece.wave_b) = (m, gm, wave_m);
+            // The next piece to split, or the root.
+            loop {
+                // Every piece left of this one is settled: any crossing left is beyond the
+                // limit.
+                if !(piece.a < self.limit) {
+                    return None;
+                }
+                if search.evaluations >= MAX_BRACKETING {
+                    let k = known?;
+                    return Some(search.refine(k.a, k.ga, k.b, k.gb));
+                }
+                match self.judge(search, &piece, depth) {
+                    Verdict::Root => {
+                        return Some(search.refine(piece.a, piece.ga, piece.b, piece.gb));
+                    }
+                    Verdict::Split(at, crossed) => {
+                        if crossed {
+                            known = Some(piece);
+                        }
+                        m = at;
+                        break;
+                    }
+                    Verdict::Empty => {
+                        // No root in [a, b]: on to the right half left behind.
+                        if depth == 0 {
+                            return None;
+                        }
+                        depth -= 1;
+                        let next = stack.get(depth).copied()?;
+                        (piece.a, piece.ga, piece.wave_a) = (piece.b, piece.gb, piece.wave_b);
+                        (piece.b, piece.gb, piece.wave_b) = next;
+                    }
+                }
+            }
+        }
     }
 }
 

@@ -2,14 +2,37 @@
 
 use crate::error::{Attr, ErrorKind};
 use crate::name::{Name, bounded};
-use crate::object::RowOrigin;
-#[cfg(feature = "print")]
-use crate::print;
 use crate::ray::Ray;
 use crate::scalar::{PixelSteps, Scalar, load_length, load_position};
 use crate::vec3::Vec3;
 #[cfg(feature = "print")]
+use crate::write;
+#[cfg(feature = "print")]
 use core::fmt;
+
+/// The primary rays of one image row as a kind sees them when it prepares its test: every
+/// one starts at `eye`, and the direction of the ray through pixel position `x` is
+/// `(x - eye.x, dy, dz)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RowOrigin<S> {
+    /// Where every primary ray starts.
+    pub eye: Vec3<S>,
+    /// The rays' `y` component.
+    pub dy: S,
+    /// The rays' `z` component.
+    pub dz: S,
+    /// The scene's z rule (see [`closest_hit`](crate::hits::closest_hit)).
+    pub z_limit: S,
+}
+
+#[cfg(all(feature = "plan", feature = "batch"))]
+impl<S: Scalar> RowOrigin<S> {
+    /// `dy^2 + dz^2` in `f64`: a ray's length squared is `a^2` more, `a` its `x`.
+    pub(crate) fn dy_dz_squared(&self) -> f64 {
+        let (dy, dz) = (self.dy.to_f64(), self.dz.to_f64());
+        dy * dy + dz * dz
+    }
+}
 
 /// Neighbouring pixels' rays must differ in direction by at least this many steps of the
 /// number type's [`Scalar::UNIT_STEP`]; below that the rounding of the rays merges rows (a
@@ -100,7 +123,7 @@ impl<S: Scalar> RowRays<S> {
         out: &mut [T],
         mut put: impl FnMut(&mut T, Option<Ray<S>>),
     ) {
-        const BATCH: usize = crate::shade::BATCH;
+        const BATCH: usize = crate::lanes::BATCH;
         let course_f64 = S::CODE == f64::CODE && matches!(S::PIXEL_STEPS, PixelSteps::Course);
         if !course_f64 || out.len() != BATCH || usize::from(self.left) < BATCH {
             for slot in out.iter_mut() {
@@ -319,6 +342,7 @@ impl<S: Scalar> Camera<S> {
         } else {
             Err(ErrorKind::PixelsTooFine {
                 number_type: S::NAME,
+                steps: MIN_PIXEL_STEPS,
             })
         }
     }
@@ -445,11 +469,11 @@ impl<S: Scalar> Camera<S> {
     /// Writes the camera block.
     #[cfg(feature = "print")]
     pub fn print(&self, out: &mut dyn fmt::Write, scale: f64) -> fmt::Result {
-        print::header(out, "camera", &self.name)?;
+        write::header(out, "camera", &self.name)?;
         writeln!(out, "  {} {} {}", Attr::Pixeldim, self.width, self.height)?;
-        print::numbers(out, Attr::Worlddim, &self.world, scale)?;
-        print::vector(out, Attr::Viewpoint, self.viewpoint, scale)?;
-        print::footer(out)
+        write::numbers(out, Attr::Worlddim, &self.world, scale)?;
+        write::vector(out, Attr::Viewpoint, self.viewpoint, scale)?;
+        write::footer(out)
     }
 }
 
@@ -461,7 +485,7 @@ mod tests {
     #[cfg(feature = "batch")]
     #[test]
     fn batches_are_the_rays_one_by_one() {
-        use crate::shade::BATCH;
+        use crate::lanes::BATCH;
         let bits = |ray: Option<Ray<f64>>| {
             ray.map(|r| [r.base, r.dir].map(|v| [v.x, v.y, v.z].map(f64::to_bits)))
         };

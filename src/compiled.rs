@@ -26,31 +26,12 @@ use crate::object::{
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;
 
+pub use crate::error::CompiledError;
+
 /// The first bytes of a compiled scene.
 pub const MAGIC: [u8; 4] = *b"mray";
 /// The layout's version, after the magic bytes.
 pub const VERSION: u8 = 2;
-
-/// What is wrong with a compiled scene.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum CompiledError {
-    /// It does not start with [`MAGIC`] and [`VERSION`].
-    NotCompiled,
-    /// It was compiled for another number type (its [`Scalar::CODE`]).
-    OtherNumberType {
-        /// The code in the bytes.
-        found: u8,
-    },
-    /// It ends early.
-    Truncated,
-    /// An object kind, flag, axis or mode that does not exist, or a world window that is
-    /// not positive.
-    BadValue,
-    /// A material or texture index past the end of its list.
-    BadIndex,
-    /// Bytes after the last object.
-    Trailing,
-}
 
 /// Writes the bytes of a compiled scene to a sink.
 pub(crate) struct Writer<'w> {

@@ -1,7 +1,27 @@
 //! The one error type: what went wrong, and where in the scene text.
 
-pub use crate::compiled::CompiledError;
 use core::fmt;
+
+/// What is wrong with a compiled scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CompiledError {
+    /// It does not start with [`MAGIC`](crate::compiled::MAGIC) and [`VERSION`](crate::compiled::VERSION).
+    NotCompiled,
+    /// It was compiled for another number type (its [`Scalar::CODE`](crate::scalar::Scalar::CODE)).
+    OtherNumberType {
+        /// The code in the bytes.
+        found: u8,
+    },
+    /// It ends early.
+    Truncated,
+    /// An object kind, flag, axis or mode that does not exist, or a world window that is
+    /// not positive.
+    BadValue,
+    /// A material or texture index past the end of its list.
+    BadIndex,
+    /// Bytes after the last object.
+    Trailing,
+}
 
 /// A line and column in scene text, both counted from 1. Columns count characters.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -619,6 +639,8 @@ pub enum ErrorKind {
     PixelsTooFine {
         /// The number type's name.
         number_type: &'static str,
+        /// The steps of its resolution neighbouring pixels need at least.
+        steps: u32,
     },
     /// A number beyond the range of `f64`.
     NumberTooLarge {
@@ -877,10 +899,9 @@ impl fmt::Display for ErrorKind {
                     " from the origin (its `{largest_at}`), beyond {number_type}'s range of 2^{range_log2}: scaled by 2^-{scaled_log2} to fit, its `{attr}` falls below {number_type}'s resolution (bring the scene nearer the origin, make it smaller, or use a wider number type)"
                 )
             }
-            ErrorKind::PixelsTooFine { number_type } => write!(
+            ErrorKind::PixelsTooFine { number_type, steps } => write!(
                 f,
-                "neighbouring pixels are closer in direction than {number_type} can tell apart (at least {} steps of its resolution are needed: use fewer pixels or a larger `worlddim`)",
-                crate::camera::MIN_PIXEL_STEPS
+                "neighbouring pixels are closer in direction than {number_type} can tell apart (at least {steps} steps of its resolution are needed: use fewer pixels or a larger `worlddim`)"
             ),
             ErrorKind::NumberTooLarge { found } => {
                 write!(f, "{found} is out of range (beyond ±1.8e308)")

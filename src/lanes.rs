@@ -4,7 +4,9 @@
 //! division or a square root costs the divider the same time packed as alone, so a packed
 //! one does two or four lanes' for the price of one; the results are the same bits.
 
-use crate::shade::BATCH;
+/// Pixels shaded together: enough chains to fill the processor's window, little enough
+/// stack per level of mirrors (about 5 KB in `f64`).
+pub const BATCH: usize = 16;
 
 /// Lanes of `f64`.
 pub(crate) type Lanes = [f64; BATCH];

@@ -138,6 +138,8 @@ pub mod compiled;
 pub mod decimal;
 pub mod dither;
 pub mod error;
+pub mod hits;
+mod interval;
 #[cfg(feature = "batch")]
 mod lanes;
 pub mod light;
@@ -156,9 +158,11 @@ pub mod scalar;
 pub mod scene;
 pub mod shade;
 pub mod texture;
-pub mod vec3;
+pub use scalar::vec3;
 #[cfg(feature = "warnings")]
 pub mod warning;
+#[cfg(feature = "print")]
+pub mod write;
 
 #[cfg(feature = "std")]
 pub mod host;

@@ -3,10 +3,10 @@
 use crate::error::{Attr, ErrorKind, Feature, Range};
 use crate::name::{Name, bounded};
 use crate::object::{RectDef, TexPlane, TextureMode};
-#[cfg(feature = "print")]
-use crate::print;
 use crate::scalar::{Scalar, load, load_position};
 use crate::vec3::Vec3;
+#[cfg(feature = "print")]
+use crate::write;
 #[cfg(feature = "print")]
 use core::fmt;
 
@@ -243,22 +243,22 @@ impl<S: Scalar> Light<S> {
         } else {
             "light"
         };
-        print::header(out, keyword, &self.name)?;
-        print::vector(out, Attr::Location, self.location, scale)?;
-        print::vector(out, Attr::Emissivity, self.emissivity, scale)?;
+        write::header(out, keyword, &self.name)?;
+        write::vector(out, Attr::Location, self.location, scale)?;
+        write::vector(out, Attr::Emissivity, self.emissivity, scale)?;
         if let Some(spot) = &self.spot {
-            print::vector(out, Attr::Point, spot.point, scale)?;
-            print::numbers(out, Attr::Theta, &[spot.theta], 1.0)?;
+            write::vector(out, Attr::Point, spot.point, scale)?;
+            write::numbers(out, Attr::Theta, &[spot.theta], 1.0)?;
         }
         if let Some(slide) = self.slide() {
             slide.rect.print_attributes(out, scale)?;
             let name = textures
                 .get(usize::from(slide.texture))
                 .map_or("", |t| t.name());
-            print::word(out, Attr::Texname, name)?;
+            write::word(out, Attr::Texname, name)?;
             writeln!(out, "  {} {}", Attr::Mode, slide.mode as u8)?;
         }
-        print::footer(out)
+        write::footer(out)
     }
 }
 

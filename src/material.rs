@@ -2,10 +2,10 @@
 
 use crate::error::{Attr, ErrorKind, Feature, Range};
 use crate::name::{Name, bounded};
-#[cfg(feature = "print")]
-use crate::print;
 use crate::scalar::{Scalar, load, load_position, load3};
 use crate::vec3::Vec3;
+#[cfg(feature = "print")]
+use crate::write;
 #[cfg(feature = "print")]
 use core::fmt;
 
@@ -201,25 +201,25 @@ impl<S: Scalar> Material<S> {
     /// Writes the material block; zero attributes other than the colours are left out.
     #[cfg(feature = "print")]
     pub fn print(&self, out: &mut dyn fmt::Write, scale: f64) -> fmt::Result {
-        print::header(out, "material", &self.name)?;
-        print::vector(out, Attr::Ambient, self.ambient, scale)?;
-        print::vector(out, Attr::Diffuse, self.diffuse, 1.0)?;
+        write::header(out, "material", &self.name)?;
+        write::vector(out, Attr::Ambient, self.ambient, scale)?;
+        write::vector(out, Attr::Diffuse, self.diffuse, 1.0)?;
         // One number when the channels agree, as the course's first scenes write it.
         let k = self.specular;
         if k.x != k.y || k.x != k.z {
-            print::vector(out, Attr::Specular, k, 1.0)?;
+            write::vector(out, Attr::Specular, k, 1.0)?;
         } else if k.x != S::ZERO {
-            print::numbers(out, Attr::Specular, &[k.x], 1.0)?;
+            write::numbers(out, Attr::Specular, &[k.x], 1.0)?;
         }
         for (attr, value) in [
             (Attr::Shininess, self.shininess),
             (Attr::Transparency, self.transparency),
         ] {
             if value != S::ZERO {
-                print::numbers(out, attr, &[value], 1.0)?;
+                write::numbers(out, attr, &[value], 1.0)?;
             }
         }
-        print::footer(out)
+        write::footer(out)
     }
 }
 

@@ -19,6 +19,7 @@
 //! plan; the tests check that for every scene and number type.
 
 use crate::camera::Camera;
+use crate::interval::Interval;
 use crate::light::Light;
 use crate::material::Material;
 use crate::object::{Object, Shape};
@@ -295,58 +296,8 @@ struct View {
 }
 
 /// A set of screen heights `lo <= sy <= hi` on the image plane (either end may be
-/// infinite); also an interval of any one coordinate (see `object::behind`).
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Heights {
-    pub(crate) lo: f64,
-    pub(crate) hi: f64,
-}
-
-impl Heights {
-    pub(crate) const ALL: Self = Self {
-        lo: f64::NEG_INFINITY,
-        hi: f64::INFINITY,
-    };
-
-    /// Keeps the heights where `p + q sy >= 0`.
-    pub(crate) fn where_nonnegative(self, p: f64, q: f64) -> Self {
-        if q > 0.0 {
-            Self {
-                lo: self.lo.max(-p / q),
-                ..self
-            }
-        } else if q < 0.0 {
-            Self {
-                hi: self.hi.min(-p / q),
-                ..self
-            }
-        } else if p >= 0.0 {
-            self
-        } else {
-            Self {
-                lo: f64::INFINITY,
-                hi: f64::NEG_INFINITY,
-            }
-        }
-    }
-
-    /// The set in both.
-    #[cfg(all(feature = "batch", feature = "plan"))]
-    pub(crate) fn intersection(self, other: Self) -> Self {
-        Self {
-            lo: self.lo.max(other.lo),
-            hi: self.hi.min(other.hi),
-        }
-    }
-
-    /// The smallest set holding both.
-    fn hull(self, other: Self) -> Self {
-        Self {
-            lo: self.lo.min(other.lo),
-            hi: self.hi.max(other.hi),
-        }
-    }
-}
+/// infinite).
+type Heights = Interval;
 
 impl View {
     fn of<S: Scalar>(camera: &Camera<S>) -> Self {

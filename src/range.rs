@@ -24,14 +24,12 @@
 //! The course's scenes (coordinates up to 20, ambient up to 2, diffuse times emissivity up to
 //! 160) need no scaling in any type.
 
-#[cfg(feature = "parser")]
-use crate::error::Error;
+use crate::camera::CameraDef;
 use crate::error::{Attr, ErrorKind};
-use crate::object::ShapeDef;
-#[cfg(feature = "parser")]
-use crate::parse::grammar::walk;
+use crate::light::LightDef;
+use crate::material::MaterialDef;
+use crate::object::{ObjectDef, RectDef, ShapeDef};
 use crate::scalar::{I16F16, Scalar};
-use crate::scene::Item;
 
 /// The size of a scene: the largest coordinate and the smallest length in it, and the
 /// brightest values that scaling multiplies.
@@ -95,60 +93,61 @@ impl Extent {
         self.smallest = self.smallest.min(l);
     }
 
-    /// Takes one definition into account.
-    pub(crate) fn include(&mut self, item: &Item<'_>) {
-        match item {
-            Item::Camera(c) => {
-                self.place(c.viewpoint, Attr::Viewpoint);
-                self.place([c.worlddim[0], c.worlddim[1], 0.0], Attr::Worlddim);
-                c.worlddim.iter().for_each(|&w| self.length(w));
-            }
-            Item::Light(l) => {
-                self.place(l.location, Attr::Location);
-                self.emission = self.emission.max(Self::brightest(l.emissivity));
-                if let Some(spot) = &l.spot {
-                    self.place(spot.point, Attr::Point);
-                }
-                if let Some(slide) = &l.slide {
-                    let r = &slide.rect;
-                    self.point(
-                        r.point,
-                        Attr::Point,
-                        r.dimensions[0] + r.dimensions[1],
-                        Attr::Dimensions,
-                    );
-                    r.dimensions.iter().for_each(|&d| self.length(d));
-                }
-            }
-            Item::Material(m) => {
-                self.ambient = self.ambient.max(Self::brightest(m.ambient));
-                self.diffuse = self.diffuse.max(Self::brightest(m.diffuse));
-            }
-            Item::Texture { .. } => {}
-            Item::Object(o) => match &o.shape {
-                ShapeDef::Plane(p) => self.place(p.point, Attr::Point),
-                ShapeDef::Sphere(s) => {
-                    self.point(s.center, Attr::Center, s.radius, Attr::Radius);
-                    self.length(s.radius);
-                    self.radius = self.radius.max(s.radius);
-                }
-                ShapeDef::RevSurf(r) => {
-                    let reach = 4.0 + libm::fabs(r.height);
-                    self.point(r.base, Attr::Base, reach, Attr::Height);
-                    self.length(r.height);
-                    self.radius = self.radius.max(reach);
-                }
-                ShapeDef::FPlane(r) | ShapeDef::TiledPlane(r, _) | ShapeDef::TexPlane(r, _, _) => {
-                    self.point(
-                        r.point,
-                        Attr::Point,
-                        r.dimensions[0] + r.dimensions[1],
-                        Attr::Dimensions,
-                    );
-                    r.dimensions.iter().for_each(|&d| self.length(d));
-                }
-            },
+    /// Takes in a camera.
+    pub(crate) fn camera(&mut self, c: &CameraDef<'_>) {
+        self.place(c.viewpoint, Attr::Viewpoint);
+        self.place([c.worlddim[0], c.worlddim[1], 0.0], Attr::Worlddim);
+        c.worlddim.iter().for_each(|&w| self.length(w));
+    }
+
+    /// Takes in a light.
+    pub(crate) fn light(&mut self, l: &LightDef<'_>) {
+        self.place(l.location, Attr::Location);
+        self.emission = self.emission.max(Self::brightest(l.emissivity));
+        if let Some(spot) = &l.spot {
+            self.place(spot.point, Attr::Point);
         }
+        if let Some(slide) = &l.slide {
+            self.rect(&slide.rect);
+        }
+    }
+
+    /// Takes in a material.
+    pub(crate) fn material(&mut self, m: &MaterialDef<'_>) {
+        self.ambient = self.ambient.max(Self::brightest(m.ambient));
+        self.diffuse = self.diffuse.max(Self::brightest(m.diffuse));
+    }
+
+    /// Takes in an object.
+    pub(crate) fn object(&mut self, o: &ObjectDef<'_>) {
+        match &o.shape {
+            ShapeDef::Plane(p) => self.place(p.point, Attr::Point),
+            ShapeDef::Sphere(s) => {
+                self.point(s.center, Attr::Center, s.radius, Attr::Radius);
+                self.length(s.radius);
+                self.radius = self.radius.max(s.radius);
+            }
+            ShapeDef::RevSurf(r) => {
+                let reach = 4.0 + libm::fabs(r.height);
+                self.point(r.base, Attr::Base, reach, Attr::Height);
+                self.length(r.height);
+                self.radius = self.radius.max(reach);
+            }
+            ShapeDef::FPlane(r) | ShapeDef::TiledPlane(r, _) | ShapeDef::TexPlane(r, _, _) => {
+                self.rect(r);
+            }
+        }
+    }
+
+    /// Takes in a rectangle: its corner, its reach and its sides.
+    fn rect(&mut self, r: &RectDef) {
+        self.point(
+            r.point,
+            Attr::Point,
+            r.dimensions[0] + r.dimensions[1],
+            Attr::Dimensions,
+        );
+        r.dimensions.iter().for_each(|&d| self.length(d));
     }
 
     /// The largest power of two, at most 1, that brings the scene within `S`'s range:
@@ -213,17 +212,6 @@ fn log2(x: f64) -> u16 {
     u16::try_from(libm::ilogb(x)).unwrap_or(0)
 }
 
-/// Measures a scene file (without loading textures).
-#[cfg(feature = "parser")]
-pub fn scene_extent(text: &[u8]) -> Result<Extent, Error> {
-    let mut extent = Extent::EMPTY;
-    walk(text, |item| {
-        extent.include(&item);
-        Ok(())
-    })?;
-    Ok(extent)
-}
-
 /// The number types microray computes in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum NumberType {
@@ -255,32 +243,4 @@ pub enum Target {
     SinglePrecisionFpu,
     /// A microcontroller without an FPU (Cortex-M0/M0+, RP2040, ESP32-C3).
     NoFpu,
-}
-
-/// The widest number type that fits the scene and is fast on the target: `f64` on a host,
-/// `f32` with a single-precision FPU, and without one `I16F16` when the scene's smallest
-/// features survive its resolution, else `f32` (soft float: slower, but it fits).
-///
-/// ```
-/// use microray::range::{choose_number_type, NumberType, Target};
-///
-/// let scene = b"camera c { pixeldim 64 48 worlddim 8 6 viewpoint 4 3 3 }
-///               material m { diffuse 1 1 1 }
-///               sphere s { material m center 4 3 -5 radius 1 }";
-/// assert_eq!(choose_number_type(scene, Target::NoFpu)?, NumberType::I16F16);
-/// let tiny = b"camera c { pixeldim 64 48 worlddim 8 6 viewpoint 4 3 3 }
-///              material m { diffuse 1 1 1 }
-///              sphere s { material m center 4 3 -5 radius 0.001 }";
-/// assert_eq!(choose_number_type(tiny, Target::NoFpu)?, NumberType::F32);
-/// # Ok::<(), microray::Error>(())
-/// ```
-#[cfg(feature = "parser")]
-pub fn choose_number_type(text: &[u8], target: Target) -> Result<NumberType, Error> {
-    let extent = scene_extent(text)?;
-    Ok(match target {
-        Target::Host => NumberType::F64,
-        Target::SinglePrecisionFpu => NumberType::F32,
-        Target::NoFpu if extent.fits::<I16F16>() => NumberType::I16F16,
-        Target::NoFpu => NumberType::F32,
-    })
 }

@@ -3,15 +3,41 @@
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;
 
-/// Whether the plane test reads a ray's components one by one ([`Ray::read_apart`]): on
-/// out-of-order processors. The tracer tests most shadow rays right after making them, and
-/// the compiler writes a ray's vectors in pieces of its own choosing (`x` alone and `(y, z)`
-/// together, say) and reads them back in others (`(x, y)` and `(z, dir.x)`). A load that
-/// straddles two stores still on their way to the cache waits for both (the
-/// store-forwarding stall: a fifth to a third of the plane test's time on the host); a load
-/// of one component is forwarded from any store that holds it. An in-order Cortex-M has no
-/// such stall and would only run the extra instructions.
-pub(crate) const LOAD_APART: bool = cfg!(any(target_arch = "x86_64", target_arch = "aarch64"));
+/// Hit points with `z` above this are in front of the image plane (in scene units, before
+/// any scaling of the scene).
+pub const Z_LIMIT: f64 = 0.01;
+
+/// Rays stop once the distance travelled from the eye exceeds this (the course's bound).
+pub const MAX_DISTANCE: f64 = 32.0;
+
+/// Lengths the tracer compares with, in the number type at the scene's scale (converted
+/// once, when the scale is set: a compiled scene carries them, so firmware converts none).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits<S> {
+    /// Hit points with `z` above this are in front of the image plane (0.01, scaled).
+    pub z: S,
+    /// Rays stop once the distance travelled from the eye exceeds this ([`MAX_DISTANCE`],
+    /// scaled).
+    pub distance: S,
+}
+
+impl<S: Scalar> Limits<S> {
+    pub(crate) fn at_scale(scale: f64) -> Self {
+        Self {
+            z: S::from_f64(Z_LIMIT * scale),
+            distance: S::from_f64(MAX_DISTANCE * scale),
+        }
+    }
+
+    /// [`at_scale(1.0)`](Self::at_scale) without `f64` (a scene whose scale was never set):
+    /// 1/100 and 32 are the nearest values in every type (tested).
+    pub(crate) fn unscaled() -> Self {
+        Self {
+            z: S::ONE.mul_ratio(1, 100),
+            distance: S::from_i32(32),
+        }
+    }
+}
 
 /// A ray `base + t * dir`, `t > 0`.
 ///
@@ -57,7 +83,7 @@ impl<S: Scalar> Ray<S> {
     pub(crate) fn read_apart(&self) -> Self {
         // Checked here as well as in `Vec3::read_apart`: without the early return the
         // Cortex-M0 build rebuilds the ray (32 B more flash, measured).
-        if !LOAD_APART {
+        if !crate::vec3::LOAD_APART {
             return *self;
         }
         Self {

@@ -22,7 +22,8 @@
 
 use crate::bvh::Bvh;
 use crate::camera::{Camera, RowRays};
-use crate::object::{Among, RowEntry};
+use crate::hits::Among;
+use crate::object::RowEntry;
 use crate::plan::Plan;
 use crate::ray::Ray;
 use crate::scalar::Scalar;

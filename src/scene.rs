@@ -7,59 +7,17 @@
 use crate::camera::{Camera, CameraDef};
 use crate::compiled;
 use crate::error::{Collection, Entity, Error, ErrorKind, Feature, Snippet, TextureError};
+use crate::hits::closest_hit;
 use crate::light::{Light, LightDef};
 use crate::material::{Material, MaterialDef, MaterialId};
-use crate::object::{Hit, Object, ObjectDef, Palette, Z_LIMIT, closest_hit};
+use crate::object::{Hit, Object, ObjectDef, Palette};
 use crate::range::Extent;
 use crate::ray::Ray;
 use crate::scalar::Scalar;
-use crate::shade::MAX_DISTANCE;
 use crate::texture::{Texture, TextureDef};
 use heapless::Vec;
 
-/// One definition of a scene, as written (a block of a file, or a `*Def` in source).
-#[derive(Clone, Copy, Debug)]
-pub(crate) enum Item<'i> {
-    Camera(CameraDef<'i>),
-    Material(MaterialDef<'i>),
-    Light(LightDef<'i>),
-    // Read by the parser's texture resolver.
-    #[cfg_attr(not(feature = "parser"), allow(dead_code))]
-    Texture {
-        name: &'i str,
-        filename: &'i str,
-    },
-    Object(ObjectDef<'i>),
-}
-
-/// Lengths the tracer compares with, in the number type at the scene's scale (converted
-/// once, when the scale is set: a compiled scene carries them, so firmware converts none).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Limits<S> {
-    /// Hit points with `z` above this are in front of the image plane (0.01, scaled).
-    pub z: S,
-    /// Rays stop once the distance travelled from the eye exceeds this ([`MAX_DISTANCE`],
-    /// scaled).
-    pub distance: S,
-}
-
-impl<S: Scalar> Limits<S> {
-    pub(crate) fn at_scale(scale: f64) -> Self {
-        Self {
-            z: S::from_f64(Z_LIMIT * scale),
-            distance: S::from_f64(MAX_DISTANCE * scale),
-        }
-    }
-
-    /// [`at_scale(1.0)`](Self::at_scale) without `f64` (a scene whose scale was never set):
-    /// 1/100 and 32 are the nearest values in every type (tested).
-    fn unscaled() -> Self {
-        Self {
-            z: S::ONE.mul_ratio(1, 100),
-            distance: S::from_i32(32),
-        }
-    }
-}
+pub use crate::ray::Limits;
 
 /// The default widest image: the renderer keeps one row of this many pixels.
 pub const DEFAULT_MAX_WIDTH: usize = 1024;
@@ -374,14 +332,10 @@ impl<
         objects: &[ObjectDef<'_>],
     ) -> Result<(), Error> {
         let mut extent = Extent::EMPTY;
-        extent.include(&Item::Camera(*camera));
-        materials
-            .iter()
-            .for_each(|m| extent.include(&Item::Material(*m)));
-        lights.iter().for_each(|l| extent.include(&Item::Light(*l)));
-        objects
-            .iter()
-            .for_each(|o| extent.include(&Item::Object(*o)));
+        extent.camera(camera);
+        materials.iter().for_each(|m| extent.material(m));
+        lights.iter().for_each(|l| extent.light(l));
+        objects.iter().for_each(|o| extent.object(o));
         let scale = extent.scale_for::<S>();
         self.clear(scale);
         let explain = |kind: ErrorKind| extent.explain::<S>(kind, scale);

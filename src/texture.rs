@@ -3,7 +3,7 @@
 use crate::error::{ErrorKind, Snippet, TextureError};
 use crate::name::{FilePath, Name, bounded};
 #[cfg(feature = "print")]
-use crate::print;
+use crate::write;
 #[cfg(feature = "print")]
 use core::fmt;
 
@@ -83,9 +83,9 @@ impl<'t> Texture<'t> {
     /// Writes the texture block.
     #[cfg(feature = "print")]
     pub fn print(&self, out: &mut dyn fmt::Write) -> fmt::Result {
-        print::header(out, "texture", &self.name)?;
-        print::word(out, crate::error::Attr::Filename, &self.filename)?;
-        print::footer(out)
+        write::header(out, "texture", &self.name)?;
+        write::word(out, crate::error::Attr::Filename, &self.filename)?;
+        write::footer(out)
     }
 }
 

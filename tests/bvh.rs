@@ -5,9 +5,8 @@
 //! cache or without.
 
 use microray::bvh::{Bvh, MIN_OBJECTS};
-use microray::object::{
-    Among, ObjectDef, RectDef, any_hit_among, any_hit_remembering, closest_hit_among,
-};
+use microray::hits::{Among, any_hit_among, any_hit_remembering, closest_hit_among};
+use microray::object::{ObjectDef, RectDef};
 use microray::scalar::I16F16;
 use microray::{CameraDef, MaterialDef, Ray, Scalar, Scene, Vec3};
 use proptest::prelude::*;

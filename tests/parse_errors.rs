@@ -615,7 +615,8 @@ fn pixels_closer_than_the_type_resolves() {
     assert_eq!(
         scene.set_resolution(160, 120),
         Err(microray::ErrorKind::PixelsTooFine {
-            number_type: "i16f16"
+            number_type: "i16f16",
+            steps: microray::camera::MIN_PIXEL_STEPS,
         })
     );
 }

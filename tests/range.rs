@@ -6,9 +6,10 @@ mod common;
 
 use microray::Scalar;
 use microray::host::{Framebuffer, HostScene, texture_files};
+use microray::parse::{choose_number_type, scene_extent};
 use microray::parse::{parse_scene, parse_scene_with_scale};
 use microray::print::print_scene;
-use microray::range::{NumberType, Target, choose_number_type, scene_extent};
+use microray::range::{NumberType, Target};
 use microray::render::{Renderer, render};
 use microray::scalar::I16F16;
 use std::path::{Path, PathBuf};

@@ -20,7 +20,7 @@
 //! ray still tests the plane it would have found.
 
 use super::{Object, RowEntry, RowOrigin, RowTest};
-use crate::plan::Heights;
+use crate::interval::Interval;
 use crate::scalar::Scalar;
 
 /// Relative margin by which the hiding plane must be nearer.
@@ -35,9 +35,6 @@ const MAX_SKIPS: usize = 3 + MAX_PLANES;
 
 /// The most entries of a row looked at.
 const MAX_PLANES: usize = 6;
-
-/// An interval of `a` (either end may be infinite; empty when `lo > hi`).
-type Interval = Heights;
 
 /// Keeps the `a` of `interval` where `slope a + offset > 0` (the margins make `>= 0` the
 /// same).

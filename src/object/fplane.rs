@@ -6,11 +6,11 @@ use super::{Hit, Object, ObjectVTable, Shape, object_material};
 use crate::error::{Attr, Entity, ErrorKind};
 use crate::material::MaterialId;
 use crate::object::plane::{Plane, PlaneDef};
-#[cfg(feature = "print")]
-use crate::print;
 use crate::ray::Ray;
 use crate::scalar::{Scalar, load_direction, load_length};
 use crate::vec3::Vec3;
+#[cfg(feature = "print")]
+use crate::write;
 #[cfg(feature = "print")]
 use core::fmt;
 
@@ -266,8 +266,8 @@ impl<S: Scalar> Rect<S> {
     #[cfg(feature = "print")]
     pub(crate) fn print_attributes(&self, out: &mut dyn fmt::Write, scale: f64) -> fmt::Result {
         self.plane.print_attributes(out, scale)?;
-        print::vector(out, Attr::Xdir, self.xdir, 1.0)?;
-        print::numbers(out, Attr::Dimensions, &self.dimensions, scale)
+        write::vector(out, Attr::Xdir, self.xdir, 1.0)?;
+        write::numbers(out, Attr::Dimensions, &self.dimensions, scale)
     }
 
     /// The fplane kind's function table.
@@ -370,7 +370,7 @@ pub fn fplane_print<S: Scalar>(
     if let Shape::FPlane(rect) = obj.shape() {
         rect.print_attributes(out, palette.scale)?;
     }
-    print::footer(out)
+    write::footer(out)
 }
 
 #[cfg(test)]

@@ -6,11 +6,11 @@ use super::{
 };
 use crate::error::{Attr, Entity, ErrorKind};
 use crate::material::MaterialId;
-#[cfg(feature = "print")]
-use crate::print;
 use crate::ray::Ray;
 use crate::scalar::{Scalar, load, load_direction, load_position};
 use crate::vec3::Vec3;
+#[cfg(feature = "print")]
+use crate::write;
 #[cfg(feature = "print")]
 use core::fmt;
 
@@ -192,8 +192,8 @@ impl<S: Scalar> Plane<S> {
     /// Writes `normal` and `point`.
     #[cfg(feature = "print")]
     pub(crate) fn print_attributes(&self, out: &mut dyn fmt::Write, scale: f64) -> fmt::Result {
-        print::vector(out, Attr::Normal, self.normal, 1.0)?;
-        print::vector(out, Attr::Point, self.point, scale)
+        write::vector(out, Attr::Normal, self.normal, 1.0)?;
+        write::vector(out, Attr::Point, self.point, scale)
     }
 
     /// The plane kind's function table.
@@ -379,7 +379,7 @@ pub fn plane_print<S: Scalar>(
     if let Shape::Plane(plane) = obj.shape() {
         plane.print_attributes(out, palette.scale)?;
     }
-    print::footer(out)
+    write::footer(out)
 }
 
 #[cfg(test)]

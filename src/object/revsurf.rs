@@ -70,11 +70,11 @@ use super::{
 };
 use crate::error::{Attr, Entity, ErrorKind};
 use crate::material::MaterialId;
-#[cfg(feature = "print")]
-use crate::print;
 use crate::ray::Ray;
 use crate::scalar::{Scalar, load, load_direction, load_length, load_position};
 use crate::vec3::Vec3;
+#[cfg(feature = "print")]
+use crate::write;
 #[cfg(feature = "print")]
 use core::fmt;
 
@@ -745,11 +745,11 @@ pub fn revsurf_print<S: Scalar>(
     super::object_print(obj, palette, out)?;
     if let Shape::RevSurf(surface) = obj.shape() {
         writeln!(out, "  {} {}", Attr::Surfer, surface.surfer as u8)?;
-        print::vector(out, Attr::Base, surface.base, palette.scale)?;
-        print::vector(out, Attr::Direction, surface.direction, 1.0)?;
-        print::numbers(out, Attr::Height, &[surface.height], palette.scale)?;
+        write::vector(out, Attr::Base, surface.base, palette.scale)?;
+        write::vector(out, Attr::Direction, surface.direction, 1.0)?;
+        write::numbers(out, Attr::Height, &[surface.height], palette.scale)?;
     }
-    print::footer(out)
+    write::footer(out)
 }
 
 #[cfg(test)]

@@ -5,11 +5,11 @@ use super::{
 };
 use crate::error::{Attr, Entity, ErrorKind};
 use crate::material::MaterialId;
-#[cfg(feature = "print")]
-use crate::print;
 use crate::ray::Ray;
 use crate::scalar::{Scalar, load, load_length, load_position};
 use crate::vec3::Vec3;
+#[cfg(feature = "print")]
+use crate::write;
 #[cfg(feature = "print")]
 use core::fmt;
 
@@ -244,10 +244,10 @@ pub fn sphere_print<S: Scalar>(
 ) -> fmt::Result {
     super::object_print(obj, palette, out)?;
     if let Shape::Sphere(sphere) = obj.shape() {
-        print::vector(out, Attr::Center, sphere.center, palette.scale)?;
-        print::numbers(out, Attr::Radius, &[sphere.radius], palette.scale)?;
+        write::vector(out, Attr::Center, sphere.center, palette.scale)?;
+        write::numbers(out, Attr::Radius, &[sphere.radius], palette.scale)?;
     }
-    print::footer(out)
+    write::footer(out)
 }
 
 #[cfg(test)]

@@ -6,11 +6,11 @@ use super::{Hit, Object, ObjectVTable, Palette, Shape, Surface, object_material,
 use crate::error::{Entity, ErrorKind};
 use crate::material::MaterialId;
 use crate::object::fplane::{Rect, RectDef};
-#[cfg(feature = "print")]
-use crate::print;
 use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;
+#[cfg(feature = "print")]
+use crate::write;
 #[cfg(feature = "print")]
 use core::fmt;
 
@@ -155,7 +155,7 @@ pub fn texplane_print<S: Scalar>(
             .textures
             .get(usize::from(textured.texture))
             .map_or("", |t| t.name());
-        print::word(out, crate::error::Attr::Texname, name)?;
+        write::word(out, crate::error::Attr::Texname, name)?;
         writeln!(
             out,
             "  {} {}",
@@ -163,7 +163,7 @@ pub fn texplane_print<S: Scalar>(
             textured.mode as u8
         )?;
     }
-    print::footer(out)
+    write::footer(out)
 }
 
 #[cfg(test)]
@@ -189,7 +189,7 @@ mod tests {
             textures: &textures,
             camera: &cam,
             scale: 1.0,
-            limits: crate::scene::Limits::at_scale(1.0),
+            limits: crate::ray::Limits::at_scale(1.0),
         };
         // An 8 x 6 wall at z = -4, material gray (ambient 0.5, diffuse 3).
         let def = RectDef::new(

@@ -5,11 +5,11 @@ use super::{Hit, Object, ObjectVTable, Palette, Shape, Surface, write_surface};
 use crate::error::{Entity, ErrorKind};
 use crate::material::MaterialId;
 use crate::object::fplane::{Rect, RectDef};
-#[cfg(feature = "print")]
-use crate::print;
 use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;
+#[cfg(feature = "print")]
+use crate::write;
 #[cfg(feature = "print")]
 use core::fmt;
 
@@ -154,21 +154,21 @@ pub fn tiled_plane_print<S: Scalar>(
     super::object_print(obj, palette, out)?;
     if let Shape::TiledPlane(tiled) = obj.shape() {
         tiled.rect.plane.print_attributes(out, palette.scale)?;
-        print::vector(out, crate::error::Attr::Xdir, tiled.rect.xdir, 1.0)?;
-        print::numbers(
+        write::vector(out, crate::error::Attr::Xdir, tiled.rect.xdir, 1.0)?;
+        write::numbers(
             out,
             crate::error::Attr::Dimensions,
             &tiled.written_dimensions,
             1.0,
         )?;
-        print::material_ref(
+        super::material_ref(
             out,
             crate::error::Attr::Altmaterial,
             palette,
             tiled.altmaterial,
         )?;
     }
-    print::footer(out)
+    write::footer(out)
 }
 
 #[cfg(test)]
@@ -194,7 +194,7 @@ mod tests {
             textures: &[],
             camera: &cam,
             scale: 1.0,
-            limits: crate::scene::Limits::at_scale(1.0),
+            limits: crate::ray::Limits::at_scale(1.0),
         };
         // u = (1,0,0), v = n x u = (0,0,-1): q = (x, -z).
         let at = |x: f64, z: f64| {

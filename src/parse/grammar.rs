@@ -15,7 +15,7 @@ use crate::object::{
 };
 use crate::range::Extent;
 use crate::scalar::Scalar;
-use crate::scene::{Item, Scene};
+use crate::scene::Scene;
 use nom::branch::alt;
 use nom::bytes::complete::{tag, take_till, take_till1, take_while1};
 use nom::character::complete::char;
@@ -23,6 +23,34 @@ use nom::combinator::recognize;
 use nom::multi::many0_count;
 use nom::sequence::pair;
 use nom::{IResult, Parser};
+
+/// One block of a scene file, as written.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Item<'i> {
+    Camera(CameraDef<'i>),
+    Material(MaterialDef<'i>),
+    Light(LightDef<'i>),
+    // Read by the parser's texture resolver.
+    #[cfg_attr(not(feature = "parser"), allow(dead_code))]
+    Texture {
+        name: &'i str,
+        filename: &'i str,
+    },
+    Object(ObjectDef<'i>),
+}
+
+impl Item<'_> {
+    /// Takes the definition into a scene's extent.
+    pub(crate) fn measure(&self, extent: &mut Extent) {
+        match self {
+            Item::Camera(c) => extent.camera(c),
+            Item::Light(l) => extent.light(l),
+            Item::Material(m) => extent.material(m),
+            Item::Texture { .. } => {}
+            Item::Object(o) => extent.object(o),
+        }
+    }
+}
 
 /// Whitespace and `#` comments (to the end of the line).
 fn blank(input: &[u8]) -> IResult<&[u8], usize> {
@@ -256,7 +284,7 @@ pub(super) fn parse_into<
     // First pass: how large the scene is, so that it can be scaled into the type's range.
     let mut extent = Extent::EMPTY;
     walk(text, |item| {
-        extent.include(&item);
+        item.measure(&mut extent);
         Ok(())
     })?;
     // Second pass: the scene, built in place; its camera is set when the block is reached,

@@ -13,6 +13,7 @@ pub(crate) mod grammar;
 pub use crate::decimal as number;
 
 use crate::error::{Attr, Entity, Error, TextureError};
+use crate::range::{Extent, NumberType, Target};
 use crate::scalar::Scalar;
 use crate::scene::Scene;
 
@@ -117,4 +118,42 @@ pub(crate) const fn values_of(attr: Attr) -> Values {
         | Base | Direction => Values::Numbers(3),
         Material | Altmaterial | Filename | Texname => Values::Word,
     }
+}
+
+/// Measures a scene file (without loading textures).
+pub fn scene_extent(text: &[u8]) -> Result<Extent, Error> {
+    let mut extent = Extent::EMPTY;
+    grammar::walk(text, |item| {
+        item.measure(&mut extent);
+        Ok(())
+    })?;
+    Ok(extent)
+}
+
+/// The widest number type that fits the scene and is fast on the target: `f64` on a host,
+/// `f32` with a single-precision FPU, and without one `I16F16` when the scene's smallest
+/// features survive its resolution, else `f32` (soft float: slower, but it fits).
+///
+/// ```
+/// use microray::parse::choose_number_type;
+/// use microray::range::{NumberType, Target};
+///
+/// let scene = b"camera c { pixeldim 64 48 worlddim 8 6 viewpoint 4 3 3 }
+///               material m { diffuse 1 1 1 }
+///               sphere s { material m center 4 3 -5 radius 1 }";
+/// assert_eq!(choose_number_type(scene, Target::NoFpu)?, NumberType::I16F16);
+/// let tiny = b"camera c { pixeldim 64 48 worlddim 8 6 viewpoint 4 3 3 }
+///              material m { diffuse 1 1 1 }
+///              sphere s { material m center 4 3 -5 radius 0.001 }";
+/// assert_eq!(choose_number_type(tiny, Target::NoFpu)?, NumberType::F32);
+/// # Ok::<(), microray::Error>(())
+/// ```
+pub fn choose_number_type(text: &[u8], target: Target) -> Result<NumberType, Error> {
+    let extent = scene_extent(text)?;
+    Ok(match target {
+        Target::Host => NumberType::F64,
+        Target::SinglePrecisionFpu => NumberType::F32,
+        Target::NoFpu if extent.fits::<crate::scalar::I16F16>() => NumberType::I16F16,
+        Target::NoFpu => NumberType::F32,
+    })
 }

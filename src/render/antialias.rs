@@ -42,7 +42,7 @@
 //! ```
 
 use super::{RenderError, Rendered, Renderer, RowDone, RowTests, among, bytes};
-use crate::object::Among;
+use crate::hits::Among;
 use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::shade::{Shader, ShadowCache};

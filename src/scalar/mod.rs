@@ -14,9 +14,12 @@
 //! The vector operations ([`Scalar::dot`], [`Scalar::length`], [`Scalar::div_vec`]) are trait
 //! methods so that a type can do them better than component by component: the fixed-point
 //! type sums products in 64 bits before one shift (no intermediate overflow, one rounding).
-//! The float types keep the plain left-to-right order the course's images need.
+//! The float types keep the plain left-to-right order the course's images need. So the
+//! vectors live here too ([`vec3`], re-exported at the crate's root as `microray::vec3`):
+//! the trait and the vector need each other.
 
 pub mod fixed;
+pub mod vec3;
 mod wide;
 
 pub use fixed::I16F16;

@@ -17,21 +17,17 @@ use super::{
     LightKind, MAX_DEPTH, Onward, Path, Shader, mirror_ray, through_ray, with_behind, with_mirror,
 };
 use crate::camera::RowRays;
+use crate::hits::{Among, BatchRay, closest_hit_among, closest_hits_in_row, closest_in_list};
 use crate::light::Light;
 use crate::material::Material;
 use crate::object::plane::plane_surface;
 use crate::object::tiled_plane::tiled_plane_surface;
-use crate::object::{
-    Among, BatchRay, Hit, RowEntry, Shape, Surface, closest_hit_among, closest_hits_in_row,
-    closest_in_list,
-};
+use crate::object::{Hit, RowEntry, Shape, Surface};
 use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;
 
-/// Pixels shaded together: enough chains to fill the processor's window, little enough
-/// stack per level of mirrors (about 5 KB in `f64`).
-pub const BATCH: usize = 16;
+pub use crate::lanes::BATCH;
 
 /// Below this many rays, a batch of mirror or transparency rays is traced ray by ray: the
 /// stages' loops over the whole batch would cost more than the overlap brings.

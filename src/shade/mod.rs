@@ -38,12 +38,12 @@
 //! ray. The course's scenes have no such rays: their images are the same bit for bit.
 
 use crate::bvh::Tree;
+use crate::hits::{
+    Among, any_hit_among, any_hit_remembering, closest_hit_among, closest_hit_in_row,
+};
 use crate::light::Light;
 use crate::material::Material;
-use crate::object::{
-    Among, Hit, Object, Palette, RowEntry, Surface, TexPlane, any_hit_among, any_hit_remembering,
-    closest_hit_among, closest_hit_in_row,
-};
+use crate::object::{Hit, Object, Palette, RowEntry, Surface, TexPlane};
 use crate::plan::Stages;
 use crate::ray::Ray;
 use crate::scalar::Scalar;
@@ -61,8 +61,7 @@ pub use batch::BATCH;
 pub(crate) use blockers::LightBlockers;
 pub use row::{ROW_LEVELS, ROW_LIGHTS, RowShading};
 
-/// Rays stop once the distance travelled from the eye exceeds this (the course's bound).
-pub const MAX_DISTANCE: f64 = 32.0;
+pub use crate::ray::MAX_DISTANCE;
 
 /// Reflection and transmission rays nest at most this deep; the primary ray is depth 0.
 /// The course's own scenes reach depth 12 (spec3, in the corner of two mirrors); the bound
@@ -90,7 +89,7 @@ pub struct ShadowCache {
 impl Default for ShadowCache {
     fn default() -> Self {
         Self {
-            last: core::array::from_fn(|_| AtomicU16::new(crate::object::NONE_REMEMBERED)),
+            last: core::array::from_fn(|_| AtomicU16::new(crate::hits::NONE_REMEMBERED)),
         }
     }
 }
@@ -249,7 +248,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         self.objects
     }
 
-    /// The scene's z limit (see [`crate::object::closest_hit`]).
+    /// The scene's z limit (see [`crate::hits::closest_hit`]).
     pub fn z_limit(&self) -> S {
         self.z_limit
     }

@@ -26,10 +26,9 @@
 //! decided) costs spec0 about a third of the per-pixel path on a Cortex-M4F.
 
 use super::{MAX_DEPTH, Onward, Path, Shader, add_diffuse, glint, in_cone, reflect, with_ambient};
+use crate::hits::{Among, closest_hit_among, closest_hit_in_row, row_plane};
 use crate::light::Light;
-use crate::object::{
-    Among, Hit, RowEntry, RowOrigin, Surface, closest_hit_among, closest_hit_in_row, row_plane,
-};
+use crate::object::{Hit, RowEntry, RowOrigin, Surface};
 use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;

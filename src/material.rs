@@ -97,14 +97,18 @@ pub struct Material<S> {
 }
 
 /// The largest `h` (up to 255) with every channel of `coefficient` at most `2^-h`: a ray
-/// through it weighs at most `2^-h` of the ray that met the surface. In f64 from the stored
-/// values, so every number type and a compiled or printed scene agree.
+/// through it weighs at most `2^-h` of the ray that met the surface. From the stored
+/// values, so a compiled or printed scene agrees. In the type itself (no `f64` in a
+/// firmware's set-up): the halving bounds are exact down to the type's smallest positive
+/// value, and below it a bound is zero, which every positive value exceeds as it does
+/// the exact one (tested against `f64` for every type).
 pub(crate) fn halvings<S: Scalar>(coefficient: Vec3<S>) -> u8 {
-    let strongest = coefficient.to_f64().max_component();
-    let mut bound = 0.5;
+    let strongest = coefficient.max_component();
+    let half = S::ONE / S::TWO;
+    let mut bound = half;
     let mut h = 0;
     while !(strongest > bound) && h < u8::MAX {
-        bound *= 0.5;
+        bound = bound * half;
         h += 1;
     }
     h
@@ -227,6 +231,41 @@ impl<S: Scalar> Material<S> {
 mod tests {
     use super::*;
     use crate::scalar::I16F16;
+
+    /// [`halvings`] as it was first written, in `f64` from the stored values.
+    fn halvings_in_f64<S: Scalar>(coefficient: Vec3<S>) -> u8 {
+        let strongest = coefficient.to_f64().max_component();
+        let mut bound = 0.5;
+        let mut h = 0;
+        while !(strongest > bound) && h < u8::MAX {
+            bound *= 0.5;
+            h += 1;
+        }
+        h
+    }
+
+    fn halvings_agree<S: Scalar>(values: &[f64]) {
+        for &a in values {
+            for &b in &[0.0, a * 0.5, a] {
+                let v = Vec3::new(S::from_f64(b), S::from_f64(a), S::from_f64(b * 0.25));
+                assert_eq!(halvings(v), halvings_in_f64(v), "{} {}", S::NAME, a);
+            }
+        }
+    }
+
+    #[test]
+    fn halvings_in_the_type_are_those_in_f64() {
+        // Powers of two and their neighbours from 2 down past every type's smallest value.
+        let mut values = vec![0.0, -0.5, 1.0, 2.0, 0.3, 0.7];
+        let mut p = 2.0f64;
+        while p > 1e-320 {
+            values.extend([p, p * (1.0 + 1e-9), p * (1.0 - 1e-9), p * 0.75]);
+            p *= 0.5;
+        }
+        halvings_agree::<f64>(&values);
+        halvings_agree::<f32>(&values);
+        halvings_agree::<I16F16>(&values);
+    }
 
     #[test]
     fn filter_is_transparency_over_strongest_diffuse() {

@@ -159,21 +159,36 @@ impl DrawTarget for RowFile {
     }
 }
 
+impl Drop for RowFile {
+    fn drop(&mut self) {
+        unsafe { syscall!(CLOSE, self.handle) };
+    }
+}
+
 impl RowFile {
+    /// Opens `<name><suffix>.rgb` for writing (the name cut to 40 bytes, the suffix to 16):
+    /// every frame's file is opened here.
+    fn create(name: &str, suffix: &str) -> Result<Self, &'static str> {
+        let name = &name.as_bytes()[..name.len().min(40)];
+        let suffix = &suffix.as_bytes()[..suffix.len().min(16)];
+        let len = name.len() + suffix.len();
+        let mut path = [0u8; 64];
+        path[..name.len()].copy_from_slice(name);
+        path[name.len()..len].copy_from_slice(suffix);
+        path[len..len + 4].copy_from_slice(b".rgb");
+        // Mode 5 is "wb"; the length excludes the terminating NUL.
+        let handle = unsafe { syscall!(OPEN, path.as_ptr(), 5, len + 4) };
+        if handle == usize::MAX {
+            return Err("cannot open the output file");
+        }
+        Ok(Self { handle })
+    }
+
     fn write(&self, bytes: &[u8]) -> Result<(), ()> {
         // SYS_WRITE returns the number of bytes not written.
         let left = unsafe { syscall!(WRITE, self.handle, bytes.as_ptr(), bytes.len()) };
         if left == 0 { Ok(()) } else { Err(()) }
     }
-}
-
-fn open(name: &[u8]) -> usize {
-    let mut path = [0u8; 64];
-    let len = name.len().min(58);
-    path[..len].copy_from_slice(&name[..len]);
-    path[len..len + 4].copy_from_slice(b".rgb");
-    // Mode 5 is "wb"; the length excludes the terminating NUL.
-    unsafe { syscall!(OPEN, path.as_ptr(), 5, len + 4) }
 }
 
 /// Renders a scene into `<name>.rgb`, and with `MICRORAY_FW_PLAN=compare` a second time
@@ -236,15 +251,8 @@ mod antialiasing {
         scene: &FirmwareScene,
         aa: Antialias,
     ) -> Result<(), &'static str> {
-        let mut file = [0u8; 56];
-        let len = name.len().min(40);
-        file[..len].copy_from_slice(&name.as_bytes()[..len]);
-        file[len..len + suffix.len()].copy_from_slice(suffix.as_bytes());
-        let handle = open(&file[..len + suffix.len()]);
-        if handle == usize::MAX {
-            return Err("cannot open the output file");
-        }
-        let mut target = RowFile { handle };
+        let file = RowFile::create(name, suffix)?;
+        let mut target = file;
         let mut buffer = [AaPixel::NEW; Antialias::buffer_len(WIDTH)];
         let all = Rectangle::new(
             Point::zero(),
@@ -258,7 +266,6 @@ mod antialiasing {
             });
         microray_count_stop();
         microray_count_frame();
-        unsafe { syscall!(CLOSE, handle) };
         result.map(|_| ()).map_err(|_| "render failed")
     }
 }
@@ -328,17 +335,8 @@ impl DrawTarget for Rgb565File {
 #[inline(never)]
 fn render_rgb565(name: &str, scene: &FirmwareScene, dither: bool) -> Result<(), &'static str> {
     let suffix = if dither { "+dither" } else { "+rgb565" };
-    let mut file = [0u8; 56];
-    let len = name.len().min(40);
-    file[..len].copy_from_slice(&name.as_bytes()[..len]);
-    file[len..len + suffix.len()].copy_from_slice(suffix.as_bytes());
-    let handle = open(&file[..len + suffix.len()]);
-    if handle == usize::MAX {
-        return Err("cannot open the output file");
-    }
-    let mut panel = Rgb565File {
-        out: RowFile { handle },
-    };
+    let file = RowFile::create(name, suffix)?;
+    let mut panel = Rgb565File { out: file };
     let all = Rectangle::new(
         Point::zero(),
         Size::new(u32::from(WIDTH), u32::from(HEIGHT)),
@@ -360,7 +358,6 @@ fn render_rgb565(name: &str, scene: &FirmwareScene, dither: bool) -> Result<(), 
     );
     microray_count_stop();
     microray_count_frame();
-    unsafe { syscall!(CLOSE, handle) };
     result.map(|_| ()).map_err(|_| "render failed")
 }
 
@@ -453,15 +450,8 @@ fn render_progressive(name: &str, scene: &FirmwareScene) -> Result<(), &'static 
     microray_count_stop();
     microray_count_frame();
     for suffix in ["+preview", "+progressive"] {
-        let mut file = [0u8; 56];
-        let len = name.len().min(40);
-        file[..len].copy_from_slice(&name.as_bytes()[..len]);
-        file[len..len + suffix.len()].copy_from_slice(suffix.as_bytes());
-        let handle = open(&file[..len + suffix.len()]);
-        if handle == usize::MAX {
-            return Err("cannot open the output file");
-        }
-        let out = RowFile { handle };
+        let file = RowFile::create(name, suffix)?;
+        let out = file;
         for line in pixels.chunks(CHUNK) {
             let mut bytes = [0u8; 3 * CHUNK];
             for (i, c) in line.iter().enumerate() {
@@ -470,7 +460,6 @@ fn render_progressive(name: &str, scene: &FirmwareScene) -> Result<(), &'static 
             out.write(&bytes[..3 * line.len()])
                 .map_err(|()| "cannot write the output file")?;
         }
-        unsafe { syscall!(CLOSE, handle) };
     }
     rest.map_err(|_| "render failed")
 }
@@ -482,15 +471,8 @@ fn render_frame(
     scene: &FirmwareScene,
     planned: bool,
 ) -> Result<(), &'static str> {
-    let mut file = [0u8; 48];
-    let len = name.len().min(40);
-    file[..len].copy_from_slice(&name.as_bytes()[..len]);
-    file[len..len + suffix.len()].copy_from_slice(suffix.as_bytes());
-    let handle = open(&file[..len + suffix.len()]);
-    if handle == usize::MAX {
-        return Err("cannot open the output file");
-    }
-    let mut target = RowFile { handle };
+    let file = RowFile::create(name, suffix)?;
+    let mut target = file;
     let mut row = [Rgb::default(); WIDTH as usize];
     let all = Rectangle::new(
         Point::zero(),
@@ -504,7 +486,6 @@ fn render_frame(
             .render_area(&mut target, all, &mut row, |_| ControlFlow::Continue(()));
     microray_count_stop();
     microray_count_frame();
-    unsafe { syscall!(CLOSE, handle) };
     result.map(|_| ()).map_err(|_| "render failed")
 }
 

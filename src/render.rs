@@ -433,45 +433,7 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
         let mut tests = heapless::Vec::new();
         for done in 1..=total {
             let y = top.saturating_add(done - 1);
-            let camera_y = self.camera.row_from_top(y);
-            let rays = self.camera.row_rays(camera_y, left);
-            // As `fill_row` (written out: sharing it moves the M0 firmware's flash by
-            // hundreds of bytes, over its 64 KiB).
-            if self.prepare_row(camera_y, &rays, &mut tests) {
-                match self.row_shading(&shader, &tests, &rays) {
-                    // No object in the row (a scene's sky): every pixel black, with no ray
-                    // made (the host's; the firmware keeps its flash).
-                    #[cfg(feature = "batch")]
-                    None if self.shading == Shading::Color
-                        && self.plan.in_row(camera_y).next().is_none() =>
-                    {
-                        row.fill(Rgb888::new(0, 0, 0).into());
-                    }
-                    // A plane at the same `t` for every ray of the row.
-                    Some(shading) => shade_row(&shader, &shading, &tests, rays, row),
-                    // Stage by stage on the host (see `shade::batch`).
-                    #[cfg(feature = "batch")]
-                    None if self.shading == Shading::Color => {
-                        shade_batches(&shader, &tests, rays, row);
-                    }
-                    None => {
-                        for (slot, ray) in row.iter_mut().zip(rays) {
-                            *slot = self.color_in_row(&shader, ray, &tests).into();
-                        }
-                    }
-                }
-            } else {
-                for (slot, ray) in row.iter_mut().zip(rays) {
-                    *slot = self.color(&shader, ray, Among::All).into();
-                }
-            }
-            let line = Rectangle::new(
-                Point::new(area.top_left.x, i32::from(y)),
-                Size::new(area.size.width, 1),
-            );
-            target
-                .fill_contiguous(&line, row.iter().copied())
-                .map_err(RenderError::Target)?;
+            self.render_row(&shader, target, y, left, &mut tests, row)?;
             if on_row(RowDone {
                 row: y,
                 done,
@@ -497,12 +459,104 @@ enum RowWork<'a, 'r, S: Scalar> {
     Planned(&'a [RowEntry<S>], Option<&'a RowShading<'r, S>>),
     /// Every object, every pixel alone (no plan).
     All,
+    /// No object in the row (a scene's sky): every pixel black, with no ray made (the
+    /// host's, with `batch`; the firmware keeps its flash).
+    Empty,
 }
 
 impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
+    /// Renders image row `y` (0 the top) from column `left` into `target`, as many pixels
+    /// as `row` holds: every row of [`render_area`](Self::render_area) and the progressive
+    /// order's whole rows.
+    fn render_row<D>(
+        &self,
+        shader: &Shader<'_, S>,
+        target: &mut D,
+        y: u16,
+        left: u16,
+        tests: &mut RowTests<S, OBJECTS>,
+        row: &mut [D::Color],
+    ) -> Result<(), RenderError<D::Error>>
+    where
+        D: DrawTarget,
+        D::Color: From<Rgb888>,
+    {
+        let camera_y = self.camera.row_from_top(y);
+        let rays = self.camera.row_rays(camera_y, left);
+        // What `with_row` and `fill_row` do for the progressive order's blocks, written
+        // out: through them, every row costs 1-2 % more (tplane4, spotlight on the M4F).
+        if self.prepare_row(camera_y, &rays, tests) {
+            match self.row_shading(shader, tests, &rays) {
+                // No object in the row (a scene's sky): every pixel black, with no ray
+                // made (the host's; the firmware keeps its flash).
+                #[cfg(feature = "batch")]
+                None if self.shading == Shading::Color
+                    && self.plan.in_row(camera_y).next().is_none() =>
+                {
+                    row.fill(Rgb888::new(0, 0, 0).into());
+                }
+                // A plane at the same `t` for every ray of the row.
+                Some(shading) => shade_row(shader, &shading, tests, rays, row),
+                // Stage by stage on the host (see `shade::batch`).
+                #[cfg(feature = "batch")]
+                None if self.shading == Shading::Color => {
+                    shade_batches(shader, tests, rays, row);
+                }
+                None => {
+                    for (slot, ray) in row.iter_mut().zip(rays) {
+                        *slot = self.color_in_row(shader, ray, tests).into();
+                    }
+                }
+            }
+        } else {
+            for (slot, ray) in row.iter_mut().zip(rays) {
+                *slot = self.color(shader, ray, Among::All).into();
+            }
+        }
+        // The row's width fits u16, as the image's does.
+        let width = u32::try_from(row.len()).unwrap_or(0);
+        let line = Rectangle::new(
+            Point::new(i32::from(left), i32::from(y)),
+            Size::new(width, 1),
+        );
+        target
+            .fill_contiguous(&line, row.iter().copied())
+            .map_err(RenderError::Target)
+    }
+
+    /// Calls `f` with the primary rays of image row `y` (0 the top) from column `left`
+    /// and what its pixels share (see [`RowWork`]), prepared here and lent: the one place
+    /// a row is prepared.
+    #[inline(always)]
+    fn with_row<'r, R>(
+        &self,
+        shader: &Shader<'r, S>,
+        y: u16,
+        left: u16,
+        tests: &mut RowTests<S, OBJECTS>,
+        f: impl FnOnce(RowRays<S>, RowWork<'_, 'r, S>) -> R,
+    ) -> R {
+        let camera_y = self.camera.row_from_top(y);
+        let rays = self.camera.row_rays(camera_y, left);
+        let shading;
+        // One call of `f` (inlined: a call per kind of row would copy it).
+        let work = if !self.prepare_row(camera_y, &rays, tests) {
+            RowWork::All
+        } else if cfg!(feature = "batch")
+            && self.shading == Shading::Color
+            && self.plan.in_row(camera_y).next().is_none()
+        {
+            RowWork::Empty
+        } else {
+            shading = self.row_shading(shader, tests, &rays);
+            RowWork::Planned(tests, shading.as_ref())
+        };
+        f(rays, work)
+    }
+
     /// Shades the rays `rays` of a row prepared as `work` into `row` (as many as it holds).
-    #[inline]
-    fn fill_row<C: From<Rgb888>>(
+    #[inline(always)]
+    fn fill_row<C: From<Rgb888> + Copy>(
         &self,
         shader: &Shader<'_, S>,
         work: RowWork<'_, '_, S>,
@@ -526,6 +580,7 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
                     *slot = self.color(shader, ray, Among::All).into();
                 }
             }
+            RowWork::Empty => row.fill(Rgb888::new(0, 0, 0).into()),
         }
     }
 }

@@ -171,13 +171,13 @@ impl RowFile {
     fn create(name: &str, suffix: &str) -> Result<Self, &'static str> {
         let name = &name.as_bytes()[..name.len().min(40)];
         let suffix = &suffix.as_bytes()[..suffix.len().min(16)];
-        let len = name.len() + suffix.len();
-        let mut path = [0u8; 64];
-        path[..name.len()].copy_from_slice(name);
-        path[name.len()..len].copy_from_slice(suffix);
-        path[len..len + 4].copy_from_slice(b".rgb");
+        // Not an array: it would be cleared first.
+        let mut path = microray::heapless::Vec::<u8, 64>::new();
+        for part in [name, suffix, b".rgb", b"\0"] {
+            let _ = path.extend_from_slice(part);
+        }
         // Mode 5 is "wb"; the length excludes the terminating NUL.
-        let handle = unsafe { syscall!(OPEN, path.as_ptr(), 5, len + 4) };
+        let handle = unsafe { syscall!(OPEN, path.as_ptr(), 5, path.len() - 1) };
         if handle == usize::MAX {
             return Err("cannot open the output file");
         }

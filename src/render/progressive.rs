@@ -18,8 +18,7 @@
 //! 3/64, pass 3 12/64; the last pass traces the odd rows whole (1/2) and the odd pixels of
 //! the even rows (1/4).
 
-use super::{RenderError, Rendered, Renderer, RowTests, RowWork};
-use crate::camera::RowRays;
+use super::{RenderError, Rendered, Renderer, RowWork};
 use crate::scalar::Scalar;
 use crate::shade::{Shader, ShadowCache};
 use core::ops::ControlFlow;
@@ -139,14 +138,14 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
             // A row of the coarser grid keeps its traced pixels: only the ones between.
             let new_row = coarser == 0 || y % coarser != 0;
             if block == 1 && new_row {
-                self.whole_row(&shader, target, y, row, &mut tests)?;
+                self.render_row(&shader, target, y, 0, &mut tests, row)?;
             } else {
                 let (first, stride) = if new_row {
                     (0, block)
                 } else {
                     (block, coarser)
                 };
-                self.with_row(&shader, y, &mut tests, |_, work| {
+                self.with_row(&shader, y, 0, &mut tests, |_, work| {
                     let traced = Traced {
                         y,
                         first,
@@ -159,25 +158,6 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
             y = y.saturating_add(block);
         }
         Ok(())
-    }
-
-    /// Calls `f` with the primary rays of image row `y` (0 the top) and what its traced
-    /// pixels share (see [`RowWork`]), prepared here and lent.
-    fn with_row<'r, R>(
-        &self,
-        shader: &Shader<'r, S>,
-        y: u16,
-        tests: &mut RowTests<S, OBJECTS>,
-        f: impl FnOnce(RowRays<S>, RowWork<'_, 'r, S>) -> R,
-    ) -> R {
-        let camera_y = self.camera.row_from_top(y);
-        let rays = self.camera.row_rays(camera_y, 0);
-        if self.prepare_row(camera_y, &rays, tests) {
-            let shading = self.row_shading(shader, tests, &rays);
-            f(rays, RowWork::Planned(tests, shading.as_ref()))
-        } else {
-            f(rays, RowWork::All)
-        }
     }
 
     /// Traces the pixels of a row `traced` names (the row prepared as `work`) into `row`,
@@ -245,30 +225,5 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
                 .map_err(RenderError::Target)?;
         }
         Ok(())
-    }
-
-    /// Image row `y` whole, as [`render_area`](Self::render_area) renders a row.
-    fn whole_row<D>(
-        &self,
-        shader: &Shader<'_, S>,
-        target: &mut D,
-        y: u16,
-        row: &mut [D::Color],
-        tests: &mut RowTests<S, OBJECTS>,
-    ) -> Result<(), RenderError<D::Error>>
-    where
-        D: DrawTarget,
-        D::Color: From<Rgb888>,
-    {
-        self.with_row(shader, y, tests, |rays, work| {
-            self.fill_row(shader, work, rays, row)
-        });
-        let line = Rectangle::new(
-            Point::new(0, i32::from(y)),
-            Size::new(u32::from(self.camera.width()), 1),
-        );
-        target
-            .fill_contiguous(&line, row.iter().copied())
-            .map_err(RenderError::Target)
     }
 }

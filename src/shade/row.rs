@@ -123,6 +123,23 @@ impl<S: Scalar> RowShading<'_, S> {
 }
 
 impl<'s, S: Scalar> Shader<'s, S> {
+    /// The shader with [`rows_shared`](Self::rows_shared) worked out for its scene, stages
+    /// and objects: not in `f64` (the course's order), not with a tree, at most
+    /// [`ROW_LIGHTS`] lights, no projector (its light changes with its slide's texel from
+    /// pixel to pixel), and no shadows through transparent objects.
+    pub(super) fn sharing_rows(self) -> Self {
+        let shadows = self.stages.illumination && self.stages.shadows;
+        let rows_shared = !S::COURSE_ORDER
+            && self.tree().is_none()
+            && self.lights.len() <= ROW_LIGHTS
+            && !self.lights.iter().any(|l| l.slide().is_some())
+            && !(shadows && self.stages.filtered_shadows);
+        Self {
+            rows_shared,
+            ..self
+        }
+    }
+
     /// The shading of a row whose prepared tests (`row`, for rays from `origin`) put a plain
     /// plane at one `t` for every ray (the rays that meet nothing nearer see it), or `None`
     /// for a row that is not like that (shade each pixel with
@@ -132,17 +149,10 @@ impl<'s, S: Scalar> Shader<'s, S> {
         row: &[RowEntry<S>],
         origin: &RowOrigin<S>,
     ) -> Option<RowShading<'s, S>> {
-        if S::COURSE_ORDER || self.tree().is_some() || self.lights.len() > ROW_LIGHTS {
-            return None;
-        }
-        // A projector's light changes with its slide's texel from pixel to pixel.
-        if self.lights.iter().any(|l| l.slide().is_some()) {
+        if !self.rows_shared {
             return None;
         }
         let shadows = self.stages.illumination && self.stages.shadows;
-        if shadows && self.stages.filtered_shadows {
-            return None;
-        }
         let (mut index, mut t, tested) = row_plane(row)?;
         // A ray of the row in all but `x`, whose hits have the row's `y` and `z`.
         let mut ray = Ray::new(origin.eye, Vec3::new(S::ZERO, origin.dy, origin.dz));

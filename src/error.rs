@@ -231,6 +231,9 @@ impl Entity {
         }
     }
 
+    /// The most attributes an entity has (a projector's eight): a parsed block's slots.
+    pub const MAX_ATTRIBUTES: usize = 8;
+
     /// Every entity, in the order the error messages list them.
     pub const ALL: [Entity; 12] = [
         Entity::Camera,
@@ -1044,6 +1047,16 @@ impl fmt::Display for CompiledError {
 }
 
 impl core::error::Error for CompiledError {}
+
+// Every entity's attributes fit a block's slots (checked when the crate compiles).
+#[allow(clippy::indexing_slicing)]
+const _: () = {
+    let mut i = 0;
+    while i < Entity::ALL.len() {
+        assert!(Entity::ALL[i].attributes().len() <= Entity::MAX_ATTRIBUTES);
+        i += 1;
+    }
+};
 
 #[cfg(test)]
 mod tests {

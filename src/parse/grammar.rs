@@ -163,12 +163,16 @@ struct Block<'i> {
     keyword_at: usize,
     name: &'i str,
     name_at: usize,
-    slots: [Option<Slot<'i>>; Attr::COUNT],
+    /// By the attribute's place in its entity's list: a block holds at most
+    /// [`Entity::MAX_ATTRIBUTES`] (a slot per attribute of the language would be 26, over a
+    /// kilobyte of a microcontroller's stack while it parses).
+    slots: [Option<Slot<'i>>; Entity::MAX_ATTRIBUTES],
 }
 
 impl<'i> Block<'i> {
     fn slot(&self, attr: Attr) -> Option<&Slot<'i>> {
-        self.slots.get(attr as usize).and_then(Option::as_ref)
+        let place = self.entity.attributes().iter().position(|&a| a == attr)?;
+        self.slots.get(place).and_then(Option::as_ref)
     }
 
     fn missing(&self, attr: Attr) -> ErrorKind {
@@ -366,7 +370,7 @@ fn parse_block<'i>(
         keyword_at: keyword.at,
         name: name_text,
         name_at: name.at,
-        slots: [None; Attr::COUNT],
+        slots: [None; Entity::MAX_ATTRIBUTES],
     };
     let mut first = true;
     loop {
@@ -377,11 +381,12 @@ fn parse_block<'i>(
         if token.is(b"}") {
             return Ok(block);
         }
-        let attr = entity
+        let (place, attr) = entity
             .attributes()
             .iter()
             .copied()
-            .find(|a| token.is(a.keyword().as_bytes()))
+            .enumerate()
+            .find(|(_, a)| token.is(a.keyword().as_bytes()))
             .ok_or_else(|| {
                 c.error(
                     ErrorKind::UnknownAttribute {
@@ -395,17 +400,18 @@ fn parse_block<'i>(
             return Err(c.error(ErrorKind::MaterialNotFirst { entity }, token.at));
         }
         first = false;
-        if block.slot(attr).is_some() {
+        let Some(slot) = block.slots.get_mut(place) else {
+            continue; // Cannot happen: every entity's attributes fit (checked at compile time).
+        };
+        if slot.is_some() {
             return Err(c.error(ErrorKind::DuplicateAttribute { attr }, token.at));
         }
         let (value, value_at) = parse_values(c, attr)?;
-        if let Some(slot) = block.slots.get_mut(attr as usize) {
-            *slot = Some(Slot {
-                at: token.at,
-                value_at,
-                value,
-            });
-        }
+        *slot = Some(Slot {
+            at: token.at,
+            value_at,
+            value,
+        });
     }
 }
 

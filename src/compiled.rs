@@ -273,21 +273,16 @@ pub(crate) fn read_material<S: Scalar>(input: &mut Reader<'_>) -> Result<Materia
     let name = bounded(input.text()?)?;
     let ambient = input.vec3();
     let diffuse = input.vec3();
-    let specular: Vec3<S> = input.vec3();
+    let specular = input.vec3();
     let shininess = input.number();
     let transparency = input.number();
-    let filter: Vec3<S> = input.vec3();
-    Ok(Material {
+    let filter = input.vec3();
+    Ok(Material::from_parts(
         name,
-        ambient,
-        diffuse,
-        specular,
+        [ambient, diffuse, specular, filter],
         shininess,
         transparency,
-        filter,
-        reflects: specular != Vec3::ZERO,
-        filter_halvings: crate::material::halvings(filter),
-    })
+    ))
 }
 
 pub(crate) fn write_light<S: Scalar>(out: &mut Writer<'_>, light: &Light<S>) {

@@ -178,8 +178,25 @@ impl<S: Scalar> Material<S> {
         } else {
             return Err(ErrorKind::TransparentWithoutDiffuse);
         };
-        Ok(Self {
-            name: bounded(def.name)?,
+        Ok(Self::from_parts(
+            bounded(def.name)?,
+            [ambient, diffuse, specular, filter],
+            shininess,
+            transparency,
+        ))
+    }
+
+    /// A material from its stored values (`[ambient, diffuse, specular, filter]`), with
+    /// what is derived from them: whether it reflects, and its filter's halvings. Loaded
+    /// and compiled scenes both make theirs here.
+    pub(crate) fn from_parts(
+        name: Name,
+        [ambient, diffuse, specular, filter]: [Vec3<S>; 4],
+        shininess: S,
+        transparency: S,
+    ) -> Self {
+        Self {
+            name,
             ambient,
             diffuse,
             specular,
@@ -188,7 +205,7 @@ impl<S: Scalar> Material<S> {
             filter,
             reflects: specular != Vec3::ZERO,
             filter_halvings: halvings(filter),
-        })
+        }
     }
 
     /// The material's name.

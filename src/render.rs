@@ -149,6 +149,9 @@ pub struct Renderer<'s, S: Scalar, const OBJECTS: usize = 32> {
     blockers: Option<crate::shade::LightBlockers>,
     planned: bool,
     shading: Shading,
+    /// Whether rows can be shaded together in this render (see
+    /// [`Shader::row_shading`]): checked once, at set-up.
+    rows_shared: bool,
 }
 
 impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
@@ -184,7 +187,7 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
             }
             _ => None,
         };
-        Self {
+        let renderer = Self {
             camera: scene.camera(),
             shader: Shader::new(scene.objects(), scene.lights(), scene.palette()),
             plan,
@@ -193,6 +196,13 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
             blockers,
             planned: true,
             shading: Shading::Color,
+            rows_shared: false,
+        };
+        // Rows are shaded together only with the plan (see `prepare_row`).
+        let rows_shared = renderer.planned() && renderer.shader().shares_rows();
+        Self {
+            rows_shared,
+            ..renderer
         }
     }
 
@@ -398,8 +408,10 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
         rays: &RowRays<S>,
     ) -> Option<RowShading<'r, S>> {
         match self.shading {
-            Shading::Color => shader.row_shading(tests, &rays.origin(self.shader.z_limit())),
-            Shading::Ids => None,
+            Shading::Color if self.rows_shared => {
+                shader.shared_row_shading(tests, &rays.origin(self.shader.z_limit()))
+            }
+            _ => None,
         }
     }
 

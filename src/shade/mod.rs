@@ -118,10 +118,6 @@ pub struct Shader<'s, S: Scalar> {
     /// (`Renderer::radiance`) copy it with the shader, beside their row list's work.
     #[cfg(feature = "batch")]
     blockers: Option<blockers::LightBlockers>,
-    /// Whether rows whose rays meet one plain plane can be shaded together (see
-    /// [`row_shading`](Self::row_shading)): what holds for the whole render, checked once
-    /// when a plan sets the stages and the objects to test ([`planned`](Self::planned)).
-    rows_shared: bool,
 }
 
 impl<'s, S: Scalar> Shader<'s, S> {
@@ -138,8 +134,6 @@ impl<'s, S: Scalar> Shader<'s, S> {
             shadow_cache: None,
             #[cfg(feature = "batch")]
             blockers: None,
-            // Rows are shaded together only with a render plan (`planned`).
-            rows_shared: false,
         }
     }
 
@@ -178,7 +172,6 @@ impl<'s, S: Scalar> Shader<'s, S> {
             among,
             ..self
         }
-        .sharing_rows()
     }
 
     /// The same shader testing each light's shadow rays only against `blockers`' list for

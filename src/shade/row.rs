@@ -123,23 +123,6 @@ impl<S: Scalar> RowShading<'_, S> {
 }
 
 impl<'s, S: Scalar> Shader<'s, S> {
-    /// The shader with [`rows_shared`](Self::rows_shared) worked out for its scene, stages
-    /// and objects: not in `f64` (the course's order), not with a tree, at most
-    /// [`ROW_LIGHTS`] lights, no projector (its light changes with its slide's texel from
-    /// pixel to pixel), and no shadows through transparent objects.
-    pub(super) fn sharing_rows(self) -> Self {
-        let shadows = self.stages.illumination && self.stages.shadows;
-        let rows_shared = !S::COURSE_ORDER
-            && self.tree().is_none()
-            && self.lights.len() <= ROW_LIGHTS
-            && !self.lights.iter().any(|l| l.slide().is_some())
-            && !(shadows && self.stages.filtered_shadows);
-        Self {
-            rows_shared,
-            ..self
-        }
-    }
-
     /// The shading of a row whose prepared tests (`row`, for rays from `origin`) put a plain
     /// plane at one `t` for every ray (the rays that meet nothing nearer see it), or `None`
     /// for a row that is not like that (shade each pixel with
@@ -149,9 +132,32 @@ impl<'s, S: Scalar> Shader<'s, S> {
         row: &[RowEntry<S>],
         origin: &RowOrigin<S>,
     ) -> Option<RowShading<'s, S>> {
-        if !self.rows_shared {
+        if !self.shares_rows() {
             return None;
         }
+        self.shared_row_shading(row, origin)
+    }
+
+    /// Whether this shader's rows can be shaded together at all: not in `f64` (the
+    /// course's order), not with a tree, at most [`ROW_LIGHTS`] lights, no projector (its
+    /// light changes with its slide's texel from pixel to pixel), no shadows through
+    /// transparent objects. It holds or not for a whole render: a renderer asks once.
+    pub(crate) fn shares_rows(&self) -> bool {
+        let shadows = self.stages.illumination && self.stages.shadows;
+        !S::COURSE_ORDER
+            && self.tree().is_none()
+            && self.lights.len() <= ROW_LIGHTS
+            && !self.lights.iter().any(|l| l.slide().is_some())
+            && !(shadows && self.stages.filtered_shadows)
+    }
+
+    /// [`row_shading`](Self::row_shading) for a shader whose rows can be shared
+    /// ([`shares_rows`](Self::shares_rows)).
+    pub(crate) fn shared_row_shading(
+        &self,
+        row: &[RowEntry<S>],
+        origin: &RowOrigin<S>,
+    ) -> Option<RowShading<'s, S>> {
         let shadows = self.stages.illumination && self.stages.shadows;
         let (mut index, mut t, tested) = row_plane(row)?;
         // A ray of the row in all but `x`, whose hits have the row's `y` and `z`.

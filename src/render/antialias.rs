@@ -271,9 +271,11 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         D: DrawTarget,
         D::Color: From<Rgb888>,
     {
-        let area = area.intersection(&Rectangle::new(Point::zero(), self.size()));
-        // The area lies within the image, whose sides fit u16.
-        let width = u16::try_from(area.size.width).unwrap_or(0);
+        let [left, top, width, height] = self.clip(&area);
+        let area = Rectangle::new(
+            Point::new(left.into(), top.into()),
+            Size::new(width.into(), height.into()),
+        );
         let needed = Antialias::buffer_len(width);
         let len = buffer.len();
         let buffer = buffer

@@ -87,35 +87,20 @@ pub(crate) fn leading_zeros(v: u32) -> u32 {
     }
 }
 
-/// Leading zeros of each byte value (8 for zero). (Indexing in a constant cannot fail at
-/// run time: a bad index would not compile.)
-#[allow(clippy::indexing_slicing)]
-const BYTE_LEADING_ZEROS: [u8; 256] = {
-    let mut table = [0u8; 256];
-    let mut i = 0;
-    while i < 256 {
-        table[i] = (i as u8).leading_zeros() as u8;
-        i += 1;
-    }
-    table
-};
-
-/// [`leading_zeros`] from the byte that holds the top set bit.
+/// [`leading_zeros`] by halving: four comparisons narrow the top set bit to a pair of bits,
+/// whose zeros (2, 1, 0, 0 for the pair 00, 01, 10, 11) are packed in one constant. No table
+/// (a byte table cost 256 bytes of flash on the Cortex-M0, whose minimal build is tight).
 #[inline]
 fn leading_zeros_table(v: u32) -> u32 {
-    let (skipped, byte) = if v >> 16 != 0 {
-        if v >> 24 != 0 {
-            (0, v >> 24)
-        } else {
-            (8, (v >> 16) & 0xff)
+    let mut v = v;
+    let mut zeros = 0;
+    for width in [16, 8, 4, 2] {
+        if v >> (32 - width) == 0 {
+            zeros += width;
+            v <<= width;
         }
-    } else if v >> 8 != 0 {
-        (16, (v >> 8) & 0xff)
-    } else {
-        (24, v & 0xff)
-    };
-    let zeros = BYTE_LEADING_ZEROS.get(byte as usize).copied().unwrap_or(8);
-    skipped + u32::from(zeros)
+    }
+    zeros + ((0b0110 >> (2 * (v >> 30))) & 3)
 }
 
 /// Leading zeros of a non-zero `u64`.
@@ -481,11 +466,12 @@ impl Wide {
     }
 }
 
-/// `1 / sqrt(x)` for `x = (64 + i + 1/2) / 256` in Q2.30: the first guess of the reciprocal
-/// square root, `i` the table index (`x` in `[1/4, 1)`).
+/// `1 / sqrt(x)` for `x = (64 + i + 1/2) / 256` in Q2.30, its low 15 bits dropped: the first
+/// guess of the reciprocal square root, `i` the table index (`x` in `[1/4, 1)`). Eight bits
+/// are all a first guess has, so 16 stored do (half the flash of 32: 384 bytes).
 #[allow(clippy::indexing_slicing)]
-const RECIPROCAL_ROOTS: [u32; 192] = {
-    let mut table = [0u32; 192];
+const RECIPROCAL_ROOTS: [u16; 192] = {
+    let mut table = [0u16; 192];
     let mut i = 0;
     while i < 192 {
         // y = sqrt(512 / (128 + 2i + 1)) 2^30, by bisection on y^2 (x + 1/512 ... ) in integers.
@@ -501,7 +487,7 @@ const RECIPROCAL_ROOTS: [u32; 192] = {
                 high = middle - 1;
             }
         }
-        table[i] = low as u32;
+        table[i] = (low >> 15) as u16;
         i += 1;
     }
     table
@@ -521,8 +507,7 @@ pub(crate) fn isqrt(n: u64) -> u32 {
     let h = (m >> 32) as u32;
     let mut y = RECIPROCAL_ROOTS
         .get(((h >> 24) as usize).saturating_sub(64))
-        .copied()
-        .unwrap_or(1 << 30);
+        .map_or(1 << 30, |&top| u32::from(top) << 15);
     for _ in 0..2 {
         // y (3 - x y^2) / 2 in Q2.30.
         let square = u32::try_from(mul_u32(y, y) >> 30).unwrap_or(u32::MAX);

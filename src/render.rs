@@ -689,4 +689,3 @@ where
     let all = Rectangle::new(Point::zero(), renderer.size());
     renderer.render_area(target, all, &mut row, |_| ControlFlow::Continue(()))
 }
-

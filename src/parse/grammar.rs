@@ -7,7 +7,7 @@ use crate::decimal::{NumberError, parse_number};
 use crate::error::{
     Attr, Entity, Error, ErrorKind, Feature, Position, Range, Snippet, TextureError,
 };
-use crate::light::LightDef;
+use crate::light::{LightDef, SlideDef, SpotDef};
 use crate::material::MaterialDef;
 use crate::name::{NAME_CAPACITY, PATH_CAPACITY};
 use crate::object::{
@@ -182,21 +182,33 @@ impl<'i> Block<'i> {
         }
     }
 
-    /// The first `N` numbers of a required attribute.
-    fn numbers<const N: usize>(&self, attr: Attr) -> Result<[f64; N], ErrorKind> {
-        match self.slot(attr).map(|s| s.value) {
+    /// Copies the numbers of a required attribute into `out`, in place: definitions are
+    /// filled field by field rather than built from returned arrays, whose copies were
+    /// most of `to_item`'s code on the Cortex-M0 (one `memcpy` call per array and move).
+    #[inline(never)]
+    fn fill(&self, attr: Attr, out: &mut [f64]) -> Result<(), ErrorKind> {
+        match self.slot(attr).map(|s| &s.value) {
             Some(Value::Numbers(values)) => {
-                let mut out = [0.0; N];
-                out.iter_mut().zip(values).for_each(|(o, v)| *o = v);
-                Ok(out)
+                out.iter_mut().zip(values).for_each(|(o, v)| *o = *v);
+                Ok(())
             }
             _ => Err(self.missing(attr)),
         }
     }
 
-    /// The numbers of an optional attribute, zero when left out.
-    fn numbers_or_zero<const N: usize>(&self, attr: Attr) -> [f64; N] {
-        self.numbers(attr).unwrap_or([0.0; N])
+    /// [`fill`](Self::fill) for an optional attribute: `out` stays as it is (zero) when the
+    /// attribute is left out.
+    fn fill_optional(&self, attr: Attr, out: &mut [f64]) {
+        // Left out is not an error here.
+        let _ = self.fill(attr, out);
+    }
+
+    /// The one number of a required attribute.
+    fn number(&self, attr: Attr) -> Result<f64, ErrorKind> {
+        let mut value = [0.0];
+        self.fill(attr, &mut value)?;
+        let [value] = value;
+        Ok(value)
     }
 
     fn word(&self, attr: Attr) -> Result<&'i str, ErrorKind> {
@@ -527,17 +539,17 @@ fn pixels(v: f64) -> u32 {
 }
 
 fn rect(block: &Block<'_>) -> Result<RectDef, ErrorKind> {
-    Ok(RectDef {
-        normal: block.numbers(Attr::Normal)?,
-        point: block.numbers(Attr::Point)?,
-        xdir: block.numbers(Attr::Xdir)?,
-        dimensions: block.numbers(Attr::Dimensions)?,
-    })
+    let mut rect = RectDef::new([0.0; 3], [0.0; 3], [0.0; 3], [0.0; 2]);
+    block.fill(Attr::Normal, &mut rect.normal)?;
+    block.fill(Attr::Point, &mut rect.point)?;
+    block.fill(Attr::Xdir, &mut rect.xdir)?;
+    block.fill(Attr::Dimensions, &mut rect.dimensions)?;
+    Ok(rect)
 }
 
 /// A texture's `mode`: 0 or 1.
 fn mode(block: &Block<'_>) -> Result<TextureMode, ErrorKind> {
-    match block.numbers::<1>(Attr::Mode)?[0] {
+    match block.number(Attr::Mode)? {
         0.0 => Ok(TextureMode::Fit),
         1.0 => Ok(TextureMode::Tile),
         _ => Err(ErrorKind::OutOfRange {
@@ -547,59 +559,62 @@ fn mode(block: &Block<'_>) -> Result<TextureMode, ErrorKind> {
     }
 }
 
+/// A block's definition, its attributes taken in a fixed order (the first one missing is
+/// the one reported).
 fn to_item<'i>(block: &Block<'i>) -> Result<Item<'i>, ErrorKind> {
     let name = block.name;
     let shape = match block.entity {
         Entity::Camera => {
-            let [w, h] = block.numbers::<2>(Attr::Pixeldim)?;
-            return Ok(Item::Camera(CameraDef::new(
-                name,
-                [pixels(w), pixels(h)],
-                block.numbers(Attr::Worlddim)?,
-                block.numbers(Attr::Viewpoint)?,
-            )));
+            let mut pixeldim = [0.0; 2];
+            block.fill(Attr::Pixeldim, &mut pixeldim)?;
+            let mut camera = CameraDef::new(name, pixeldim.map(pixels), [0.0; 2], [0.0; 3]);
+            block.fill(Attr::Worlddim, &mut camera.worlddim)?;
+            block.fill(Attr::Viewpoint, &mut camera.viewpoint)?;
+            return Ok(Item::Camera(camera));
         }
         Entity::Material => {
-            let specular = block.numbers_or_zero::<3>(Attr::Specular);
-            let [shininess, transparency] =
-                [Attr::Shininess, Attr::Transparency].map(|a| block.numbers_or_zero::<1>(a)[0]);
-            return Ok(Item::Material(MaterialDef {
+            let mut material = MaterialDef {
                 name,
-                ambient: block.numbers_or_zero(Attr::Ambient),
-                diffuse: block.numbers_or_zero(Attr::Diffuse),
-                specular,
-                shininess,
-                transparency,
-            }));
+                ambient: [0.0; 3],
+                diffuse: [0.0; 3],
+                specular: [0.0; 3],
+                shininess: 0.0,
+                transparency: 0.0,
+            };
+            block.fill_optional(Attr::Ambient, &mut material.ambient);
+            block.fill_optional(Attr::Diffuse, &mut material.diffuse);
+            block.fill_optional(Attr::Specular, &mut material.specular);
+            block.fill_optional(Attr::Shininess, core::slice::from_mut(&mut material.shininess));
+            block.fill_optional(
+                Attr::Transparency,
+                core::slice::from_mut(&mut material.transparency),
+            );
+            return Ok(Item::Material(material));
         }
-        Entity::Light => {
-            let location = block.numbers(Attr::Location)?;
-            return Ok(Item::Light(LightDef::point(
-                name,
-                location,
-                block.numbers(Attr::Emissivity)?,
-            )));
-        }
-        Entity::Spotlight => {
-            return Ok(Item::Light(LightDef::spot(
-                name,
-                block.numbers(Attr::Location)?,
-                block.numbers(Attr::Emissivity)?,
-                block.numbers(Attr::Point)?,
-                block.numbers::<1>(Attr::Theta)?[0],
-            )));
-        }
-        Entity::Projector => {
-            // First: a build without projectors leaves the rest out.
-            Feature::Projector.require(None)?;
-            return Ok(Item::Light(LightDef::projector(
-                name,
-                block.numbers(Attr::Location)?,
-                block.numbers(Attr::Emissivity)?,
-                rect(block)?,
-                block.word(Attr::Texname)?,
-                mode(block)?,
-            )));
+        Entity::Light | Entity::Spotlight | Entity::Projector => {
+            if block.entity == Entity::Projector {
+                // First: a build without projectors leaves the rest out.
+                Feature::Projector.require(None)?;
+            }
+            let mut light = LightDef::point(name, [0.0; 3], [0.0; 3]);
+            block.fill(Attr::Location, &mut light.location)?;
+            block.fill(Attr::Emissivity, &mut light.emissivity)?;
+            if block.entity == Entity::Spotlight {
+                let mut spot = SpotDef {
+                    point: [0.0; 3],
+                    theta: 0.0,
+                };
+                block.fill(Attr::Point, &mut spot.point)?;
+                spot.theta = block.number(Attr::Theta)?;
+                light.spot = Some(spot);
+            } else if block.entity == Entity::Projector {
+                light.slide = Some(SlideDef {
+                    rect: rect(block)?,
+                    texname: block.word(Attr::Texname)?,
+                    mode: mode(block)?,
+                });
+            }
+            return Ok(Item::Light(light));
         }
         Entity::Texture => {
             return Ok(Item::Texture {
@@ -607,14 +622,24 @@ fn to_item<'i>(block: &Block<'i>) -> Result<Item<'i>, ErrorKind> {
                 filename: block.word(Attr::Filename)?,
             });
         }
-        Entity::Plane => ShapeDef::Plane(PlaneDef {
-            normal: block.numbers(Attr::Normal)?,
-            point: block.numbers(Attr::Point)?,
-        }),
-        Entity::Sphere => ShapeDef::Sphere(SphereDef {
-            center: block.numbers(Attr::Center)?,
-            radius: block.numbers::<1>(Attr::Radius)?[0],
-        }),
+        Entity::Plane => {
+            let mut plane = PlaneDef {
+                normal: [0.0; 3],
+                point: [0.0; 3],
+            };
+            block.fill(Attr::Normal, &mut plane.normal)?;
+            block.fill(Attr::Point, &mut plane.point)?;
+            ShapeDef::Plane(plane)
+        }
+        Entity::Sphere => {
+            let mut sphere = SphereDef {
+                center: [0.0; 3],
+                radius: 0.0,
+            };
+            block.fill(Attr::Center, &mut sphere.center)?;
+            sphere.radius = block.number(Attr::Radius)?;
+            ShapeDef::Sphere(sphere)
+        }
         Entity::FPlane => ShapeDef::FPlane(rect(block)?),
         Entity::TiledPlane => ShapeDef::TiledPlane(rect(block)?, block.word(Attr::Altmaterial)?),
         Entity::TexPlane => {
@@ -622,7 +647,7 @@ fn to_item<'i>(block: &Block<'i>) -> Result<Item<'i>, ErrorKind> {
         }
         Entity::RevSurf => {
             Feature::RevSurf.require(None)?;
-            let surfer = match block.numbers::<1>(Attr::Surfer)?[0] {
+            let surfer = match block.number(Attr::Surfer)? {
                 1.0 => Surfer::Cone,
                 2.0 => Surfer::Waist,
                 3.0 => Surfer::Vase,
@@ -633,12 +658,16 @@ fn to_item<'i>(block: &Block<'i>) -> Result<Item<'i>, ErrorKind> {
                     });
                 }
             };
-            ShapeDef::RevSurf(RevSurfDef {
+            let mut revsurf = RevSurfDef {
                 surfer,
-                base: block.numbers(Attr::Base)?,
-                direction: block.numbers(Attr::Direction)?,
-                height: block.numbers::<1>(Attr::Height)?[0],
-            })
+                base: [0.0; 3],
+                direction: [0.0; 3],
+                height: 0.0,
+            };
+            block.fill(Attr::Base, &mut revsurf.base)?;
+            block.fill(Attr::Direction, &mut revsurf.direction)?;
+            revsurf.height = block.number(Attr::Height)?;
+            ShapeDef::RevSurf(revsurf)
         }
     };
     let material = block.word(Attr::Material)?;

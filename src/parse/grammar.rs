@@ -532,10 +532,10 @@ fn parse_values<'i>(c: &mut Cursor<'i>, attr: Attr) -> Result<(Value<'i>, usize)
     Ok((Value::Numbers(values), first_at))
 }
 
-/// A whole number of pixels; negative is 0 and huge saturates, so the camera's checks
-/// report them.
+/// A whole number of pixels; negative is 0 and huge saturates (as `as` does), so the
+/// camera's checks report them.
 fn pixels(v: f64) -> u32 {
-    v.clamp(0.0, f64::from(u32::MAX)) as u32
+    v as u32
 }
 
 fn rect(block: &Block<'_>) -> Result<RectDef, ErrorKind> {

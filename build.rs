@@ -1,6 +1,12 @@
 //! Sets `cfg(microray_conformance)` when `MICRORAY_CONFORMANCE` names the course's scenes
 //! (the tests that need them are ignored otherwise, with the reason).
 //!
+//! Sets `cfg(microray_small)` when the crate is built for size (`opt-level` `s` or `z`,
+//! as the firmware's `release-small` profile), or when `MICRORAY_SMALL` is set (so that the
+//! host's tests can check that shape): where speed and flash pull apart, the library then
+//! takes the smaller shape (see docs/design.md, "Built for size"). The same pixels either
+//! way.
+//!
 //! Links the `microray` binary as a static PIE on Linux with glibc, when the static
 //! archives are installed (they come with the C compiler's `libc6-dev`).
 //!
@@ -36,6 +42,13 @@ fn main() {
     println!("cargo::rustc-check-cfg=cfg(microray_conformance)");
     if env::var_os("MICRORAY_CONFORMANCE").is_some() {
         println!("cargo::rustc-cfg=microray_conformance");
+    }
+    println!("cargo::rerun-if-env-changed=MICRORAY_SMALL");
+    println!("cargo::rustc-check-cfg=cfg(microray_small)");
+    if matches!(env::var("OPT_LEVEL").as_deref(), Ok("s" | "z"))
+        || env::var_os("MICRORAY_SMALL").is_some_and(|v| !v.is_empty())
+    {
+        println!("cargo::rustc-cfg=microray_small");
     }
     if let Some(dir) = static_libs() {
         println!("cargo::rustc-link-arg-bins=-L{}", dir.display());

@@ -584,7 +584,10 @@ fn to_item<'i>(block: &Block<'i>) -> Result<Item<'i>, ErrorKind> {
             block.fill_optional(Attr::Ambient, &mut material.ambient);
             block.fill_optional(Attr::Diffuse, &mut material.diffuse);
             block.fill_optional(Attr::Specular, &mut material.specular);
-            block.fill_optional(Attr::Shininess, core::slice::from_mut(&mut material.shininess));
+            block.fill_optional(
+                Attr::Shininess,
+                core::slice::from_mut(&mut material.shininess),
+            );
             block.fill_optional(
                 Attr::Transparency,
                 core::slice::from_mut(&mut material.transparency),

@@ -288,7 +288,11 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// [`shade_in_row`](Self::shade_in_row) where each pixel tests some shadow rays.
     #[inline(never)]
     fn shade_testing_shadows(&self, row: &RowShading<'s, S>, ray: &Ray<S>) -> Vec3<S> {
-        self.level(&row.levels, ray, S::ZERO, 0, true)
+        if cfg!(microray_small) {
+            self.deeper_level_or_shadows(&row.levels, ray, S::ZERO, 0, true)
+        } else {
+            self.level(&row.levels, ray, S::ZERO, 0, true)
+        }
     }
 
     /// [`shade_in_row`](Self::shade_in_row) where an object tested ray by ray may be nearer
@@ -312,7 +316,27 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// decides: mirror levels are made only where every object ignores `x`).
     #[inline(never)]
     fn deeper_level(&self, levels: &[Level<'s, S>], ray: &Ray<S>, total: S, depth: u8) -> Vec3<S> {
-        self.level(levels, ray, total, depth, false)
+        if cfg!(microray_small) {
+            self.deeper_level_or_shadows(levels, ray, total, depth, false)
+        } else {
+            self.level(levels, ray, total, depth, false)
+        }
+    }
+
+    /// Built for size, one body of [`level`](Self::level) for the mirror rays and for the
+    /// rows whose pixels test shadow rays, `test_shadows` decided as it runs (each of the
+    /// two has its own copy otherwise: 912 bytes of a Cortex-M0's flash; see docs/design.md,
+    /// "Built for size").
+    #[inline(never)]
+    fn deeper_level_or_shadows(
+        &self,
+        levels: &[Level<'s, S>],
+        ray: &Ray<S>,
+        total: S,
+        depth: u8,
+        test_shadows: bool,
+    ) -> Vec3<S> {
+        self.level(levels, ray, total, depth, test_shadows)
     }
 
     /// [`shade`](Self::shade) for a ray of the row at the first of `levels`, having come
@@ -339,9 +363,12 @@ impl<'s, S: Scalar> Shader<'s, S> {
         };
         let len = ray.length();
         let total = total + level.t * len;
-        let mut c = if test_shadows {
+        let mut c = if test_shadows || cfg!(microray_small) {
+            // Built for size, one copy of the light loop, the test decided as it runs.
             self.local_in_row(level, &hit, ray, total, |lit, to_light| {
-                lit.shadow_per_pixel && self.blocked(hit.point, to_light, level.index, lit.light)
+                test_shadows
+                    && lit.shadow_per_pixel
+                    && self.blocked(hit.point, to_light, level.index, lit.light)
             })
         } else {
             self.local_in_row(level, &hit, ray, total, |_, _| false)

@@ -548,20 +548,18 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
             .map_err(RenderError::Target)
     }
 
-    /// Calls `f` with the primary rays of image row `y` (0 the top) from column `left`
-    /// and what its pixels share (see [`RowWork`]), prepared here and lent: the one place
-    /// a row is prepared.
+    /// Calls `f` with the primary rays of image row `y` (0 the top) and what its pixels
+    /// share (see [`RowWork`]), prepared here and lent: the progressive order's blocks.
     #[inline(always)]
     fn with_row<'r, R>(
         &self,
         shader: &Shader<'r, S>,
         y: u16,
-        left: u16,
         tests: &mut RowTests<S, OBJECTS>,
         f: impl FnOnce(RowRays<S>, RowWork<'_, 'r, S>) -> R,
     ) -> R {
         let camera_y = self.camera.row_from_top(y);
-        let rays = self.camera.row_rays(camera_y, left);
+        let rays = self.camera.row_rays(camera_y, 0);
         let shading;
         // One call of `f` (inlined: a call per kind of row would copy it).
         let work = if !self.prepare_row(camera_y, &rays, tests) {
@@ -579,7 +577,7 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
     }
 
     /// Shades the rays `rays` of a row prepared as `work` into `row` (as many as it holds).
-    #[inline(always)]
+    #[inline]
     fn fill_row<C: From<Rgb888> + Copy>(
         &self,
         shader: &Shader<'_, S>,

@@ -145,7 +145,7 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
                 } else {
                     (block, coarser)
                 };
-                self.with_row(&shader, y, 0, &mut tests, |_, work| {
+                self.with_row(&shader, y, &mut tests, |_, work| {
                     let traced = Traced {
                         y,
                         first,

@@ -1008,7 +1008,9 @@ fn flash_by_part(root: &Path, conformance: Option<&Path>, size: &str) -> Result<
     .replace("{spec0}", &spec0.to_string());
     // Each build's flash by part: the minimal build and the full one with the parser, at
     // opt-level 3 and built for size.
-    let mut by_part: Vec<(String, [u64; 8], [u64; 8], [u64; 8])> = Vec::new();
+    // A build's name, and its minimal, full + parser and full + parser release-small parts.
+    type Parts = [u64; 8];
+    let mut by_part: Vec<(String, Parts, Parts, Parts)> = Vec::new();
     let mut margins = String::new();
     for build in BUILDS.iter().filter(|b| {
         (b.machine, b.number) == ("mps2-an386", "f32")

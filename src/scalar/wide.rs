@@ -87,20 +87,39 @@ pub(crate) fn leading_zeros(v: u32) -> u32 {
     }
 }
 
-/// [`leading_zeros`] by halving: four comparisons narrow the top set bit to a pair of bits,
-/// whose zeros (2, 1, 0, 0 for the pair 00, 01, 10, 11) are packed in one constant. No table
-/// (a byte table cost 256 bytes of flash on the Cortex-M0, whose minimal build is tight).
+/// Leading zeros of each byte value `2k` and `2k + 1` (the same but for `k = 0`: 8 for 0,
+/// 7 for 1), by `k`: half the bytes of a table by byte value, read at the same cost (the
+/// index is the byte shifted one more place). (Indexing in a constant cannot fail at run
+/// time: a bad index would not compile.)
+#[allow(clippy::indexing_slicing)]
+const PAIR_LEADING_ZEROS: [u8; 128] = {
+    let mut table = [0u8; 128];
+    let mut k = 0;
+    while k < 128 {
+        table[k] = ((2 * k + 1) as u8).leading_zeros() as u8;
+        k += 1;
+    }
+    table
+};
+
+/// [`leading_zeros`] from the byte that holds the top set bit: two comparisons and a look-up
+/// of its top seven bits (its lowest bit matters only for the byte 1, whose pair is 0's).
 #[inline]
 fn leading_zeros_table(v: u32) -> u32 {
-    let mut v = v;
-    let mut zeros = 0;
-    for width in [16, 8, 4, 2] {
-        if v >> (32 - width) == 0 {
-            zeros += width;
-            v <<= width;
+    let (skipped, pair) = if v >> 16 != 0 {
+        if v >> 24 != 0 {
+            (0, v >> 25)
+        } else {
+            (8, (v >> 17) & 0x7f)
         }
-    }
-    zeros + ((0b0110 >> (2 * (v >> 30))) & 3)
+    } else if v >> 8 != 0 {
+        (16, (v >> 9) & 0x7f)
+    } else if v != 0 {
+        (24, (v >> 1) & 0x7f)
+    } else {
+        return 32;
+    };
+    skipped + u32::from(PAIR_LEADING_ZEROS.get(pair as usize).copied().unwrap_or(8))
 }
 
 /// Leading zeros of a non-zero `u64`.

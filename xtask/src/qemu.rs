@@ -964,10 +964,11 @@ const FULL_SMALL_LIMIT: u64 = 63 * 1024;
 /// were over them; each change leaves the pixels as they were).
 const WHAT_MADE_ROOM: &str = "\nWhere the room came from (the Cortex-M0's builds, which were over \
 these limits: minimal 16,040 bytes, full + parser + spec0 at `release-small` 67,068):\n\n\
-- no 256-byte table to count leading zeros (four halvings and a packed constant), the \
+- leading zeros counted with a 128-entry table (by byte pair) instead of 256 entries, the \
 reciprocal square root's first guesses in 16 bits instead of 32, a render's area clipped in \
-integers rather than by embedded-graphics' `Rectangle::intersection`: minimal -892, full \
--28 (its share of the tables, less what LTO inlined differently);\n\
+integers rather than by embedded-graphics' `Rectangle::intersection`: minimal -852, full \
+-40 (its share of the tables, less what LTO inlined differently; no table at all, four \
+halvings instead, took 240 bytes more off but cost the Cortex-M0 4 % of its instructions);\n\
 - the parser fills each definition in place instead of building it from returned arrays \
 (each array and each move was a `memcpy` call at opt-level z): full -1,192;\n\
 - the decimal reader scans its grammar byte by byte instead of with nom's combinators: full \

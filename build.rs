@@ -1,11 +1,11 @@
 //! Sets `cfg(microray_conformance)` when `MICRORAY_CONFORMANCE` names the course's scenes
 //! (the tests that need them are ignored otherwise, with the reason).
 //!
-//! Sets `cfg(microray_small)` when the crate is built for size (`opt-level` `s` or `z`,
-//! as the firmware's `release-small` profile), or when `MICRORAY_SMALL` is set (so that the
-//! host's tests can check that shape): where speed and flash pull apart, the library then
-//! takes the smaller shape (see docs/design.md, "Built for size"). The same pixels either
-//! way.
+//! Sets `cfg(microray_small)` when the crate is built for the least flash (`opt-level` `z`,
+//! as the firmware's `release-small` profile; `s` still weighs speed), or when
+//! `MICRORAY_SMALL` is set (so that the host's tests can check that shape): where speed and
+//! flash pull apart, the library then takes the smaller shape (see docs/design.md, "Built
+//! for size"). The same pixels either way.
 //!
 //! Links the `microray` binary as a static PIE on Linux with glibc, when the static
 //! archives are installed (they come with the C compiler's `libc6-dev`).
@@ -45,7 +45,7 @@ fn main() {
     }
     println!("cargo::rerun-if-env-changed=MICRORAY_SMALL");
     println!("cargo::rustc-check-cfg=cfg(microray_small)");
-    if matches!(env::var("OPT_LEVEL").as_deref(), Ok("s" | "z"))
+    if matches!(env::var("OPT_LEVEL").as_deref(), Ok("z"))
         || env::var_os("MICRORAY_SMALL").is_some_and(|v| !v.is_empty())
     {
         println!("cargo::rustc-cfg=microray_small");

@@ -518,6 +518,8 @@ pub(crate) fn measure(
             let counts = profile::frame_counts(&log);
             let mut symbolizer = profile::Symbolizer::new(&elf)?;
             let pixels = f64::from(width) * f64::from(height);
+            // The course's frames profiled, for their mean below.
+            let mut profiled: Vec<(&HashMap<u64, u64>, &Row)> = Vec::new();
             for (index, row) in frames.iter().enumerate() {
                 let Some(frame) = counts.get(&(index as u64)) else {
                     continue;
@@ -539,6 +541,12 @@ pub(crate) fn measure(
                     .report(&title, pixels, row.vdiv, row.vsqrt);
                 profiles.push_str(&report);
                 profiles.push('\n');
+                if COURSE_SCENES.contains(&row.scene.as_str()) {
+                    profiled.push((frame, row));
+                }
+            }
+            if profiled.len() > 1 {
+                profiles.push_str(&mean_profile(&mut symbolizer, &profiled, build, pixels));
             }
         }
         rows.extend(frames.into_iter().map(|r| Row { size, ..r }));
@@ -1139,6 +1147,120 @@ fn table(rows: &[Row], width: u16, height: u16) -> String {
             r.size.flash,
             r.size.ram,
             r.stack
+        );
+    }
+    out.push_str(&summary(rows, pixels));
+    out
+}
+
+/// The stages of the geometric mean of the course's frames' instructions a pixel: each frame's
+/// counts weighted by the mean over its own total, so that every frame counts by its shares
+/// (as in the geometric mean) and the stages add up to the mean.
+fn mean_profile(
+    symbolizer: &mut profile::Symbolizer,
+    frames: &[(&HashMap<u64, u64>, &Row)],
+    build: &Build,
+    pixels: f64,
+) -> String {
+    let n = frames.len() as f64;
+    let mean = (frames
+        .iter()
+        .map(|(_, r)| (r.insns.max(1) as f64).ln())
+        .sum::<f64>()
+        / n)
+        .exp();
+    // Weighted counts in thousandths, so that the small frames keep their precision.
+    let mut merged: HashMap<u64, u64> = HashMap::new();
+    let (mut vdiv, mut vsqrt) = (0.0, 0.0);
+    for (counts, row) in frames {
+        let weight = mean / row.insns.max(1) as f64 / n;
+        for (&address, &count) in *counts {
+            *merged.entry(address).or_insert(0) += (count as f64 * weight * 1000.0).round() as u64;
+        }
+        vdiv += row.vdiv as f64 * weight;
+        vsqrt += row.vsqrt as f64 * weight;
+    }
+    let names: Vec<&str> = frames.iter().map(|(_, r)| r.scene.as_str()).collect();
+    let number = frames
+        .first()
+        .map_or(build.number, |(_, r)| r.number_name());
+    let title = format!(
+        "the geometric mean of {} course scenes on {} in {number} (each by its shares: {})",
+        frames.len(),
+        build.machine,
+        names.join(", ")
+    );
+    let mut report = profile::Profile::of(symbolizer, &merged).report(
+        &title,
+        pixels * 1000.0,
+        (vdiv * 1000.0).round() as u64,
+        (vsqrt * 1000.0).round() as u64,
+    );
+    report.push('\n');
+    report
+}
+
+/// The course's scenes of the summary: the 17 the firmware renders (the micro:bit's flash
+/// holds 15 of them: not the textured planes' images).
+const COURSE_SCENES: [&str; 17] = [
+    "aademo",
+    "fplane0",
+    "fplane1",
+    "fplane3",
+    "fplane4",
+    "shiny",
+    "shiny3",
+    "spec0",
+    "spec1",
+    "spec3",
+    "spotlight",
+    "texplane1",
+    "texplane2",
+    "tplane4",
+    "translucent3",
+    "translucent4",
+    "translucent6",
+];
+
+/// Per machine and number type: the geometric mean of the instructions a pixel over the
+/// course's scenes, and the heavy scenes of the project (the figures the speed work is
+/// measured by).
+fn summary(rows: &[Row], pixels: f64) -> String {
+    let mut out = String::from(
+        "\n## Per build: the course's geometric mean and the heavy scenes\n\n\
+         Instructions a pixel; the geometric mean over the course's scenes in the table above \
+         (17; 15 on the micro:bit, whose flash does not hold the textured planes' images).\n\n\
+         | machine | number | course scenes | geometric mean | spec0 | showcase | vases | spec3 | many_spheres |\n\
+         |---|---|---|---|---|---|---|---|---|\n",
+    );
+    let mut builds: Vec<(&str, &str)> = Vec::new();
+    for r in rows {
+        if !builds.contains(&(r.machine, r.number)) {
+            builds.push((r.machine, r.number));
+        }
+    }
+    for (machine, number) in builds {
+        let of = |scene: &str| {
+            rows.iter()
+                .find(|r| r.machine == machine && r.number == number && r.scene == scene)
+                .map(|r| r.insns as f64 / pixels)
+        };
+        let course: Vec<f64> = COURSE_SCENES.iter().filter_map(|s| of(s)).collect();
+        if course.is_empty() {
+            continue;
+        }
+        let mean = (course.iter().map(|v| v.ln()).sum::<f64>() / course.len() as f64).exp();
+        let cell = |scene: &str| of(scene).map_or("-".to_string(), |v| format!("{v:.0}"));
+        let number = if number == "fixed" { "i16f16" } else { number };
+        let _ = writeln!(
+            out,
+            "| {machine} | {number} | {} | {mean:.0} | {} | {} | {} | {} | {} |",
+            course.len(),
+            cell("spec0"),
+            cell("showcase"),
+            cell("vases"),
+            cell("spec3"),
+            cell("many_spheres"),
         );
     }
     out

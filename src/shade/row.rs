@@ -289,7 +289,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
     #[inline(never)]
     fn shade_testing_shadows(&self, row: &RowShading<'s, S>, ray: &Ray<S>) -> Vec3<S> {
         if cfg!(microray_small) {
-            self.deeper_level_or_shadows(&row.levels, ray, S::ZERO, 0, true)
+            // Built for size, the mirror rays' body serves these rows too.
+            self.deeper_level(&row.levels, ray, S::ZERO, 0, true)
         } else {
             self.level(&row.levels, ray, S::ZERO, 0, true)
         }
@@ -313,22 +314,12 @@ impl<'s, S: Scalar> Shader<'s, S> {
     }
 
     /// [`level`](Self::level) out of line, for the mirror rays (whose shadows the row
-    /// decides: mirror levels are made only where every object ignores `x`).
+    /// decides: mirror levels are made only where every object ignores `x`, so they pass
+    /// `test_shadows` false). Built for size, the rows whose pixels test shadow rays take
+    /// this body too, with `test_shadows` true, instead of a copy of their own (912 bytes
+    /// of a Cortex-M0's flash; see docs/design.md, "Built for size").
     #[inline(never)]
-    fn deeper_level(&self, levels: &[Level<'s, S>], ray: &Ray<S>, total: S, depth: u8) -> Vec3<S> {
-        if cfg!(microray_small) {
-            self.deeper_level_or_shadows(levels, ray, total, depth, false)
-        } else {
-            self.level(levels, ray, total, depth, false)
-        }
-    }
-
-    /// Built for size, one body of [`level`](Self::level) for the mirror rays and for the
-    /// rows whose pixels test shadow rays, `test_shadows` decided as it runs (each of the
-    /// two has its own copy otherwise: 912 bytes of a Cortex-M0's flash; see docs/design.md,
-    /// "Built for size").
-    #[inline(never)]
-    fn deeper_level_or_shadows(
+    fn deeper_level(
         &self,
         levels: &[Level<'s, S>],
         ray: &Ray<S>,
@@ -386,7 +377,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 Mirror::Trace => self.follow(&reflected, &onward, onward.path.mirrored()),
                 // Where `trace` stops, or finds nothing.
                 _ if total > self.max_distance || depth + 1 > MAX_DEPTH => Vec3::ZERO,
-                Mirror::Level => self.deeper_level(deeper, &reflected, total, depth + 1),
+                Mirror::Level => self.deeper_level(deeper, &reflected, total, depth + 1, false),
                 _ => Vec3::ZERO,
             };
             c = c + seen.mul_each(material.specular);

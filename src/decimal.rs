@@ -52,11 +52,7 @@ impl core::error::Error for NumberError {}
 /// or `None`. A loop over bytes rather than nom's combinators: the scene parser hands this
 /// whole tokens, and the combinators cost 400 bytes more of a Cortex-M0's flash.
 pub(crate) fn decimal(input: &[u8]) -> Option<(&[u8], Decimal<'_>)> {
-    let (negative, rest) = match input.split_first() {
-        Some((b'-', rest)) => (true, rest),
-        Some((b'+', rest)) => (false, rest),
-        _ => (false, input),
-    };
+    let (negative, rest) = sign(input);
     let (integer, rest) = digits(rest);
     let (fraction, rest) = match rest.split_first() {
         Some((b'.', after)) => digits(after),
@@ -68,11 +64,7 @@ pub(crate) fn decimal(input: &[u8]) -> Option<(&[u8], Decimal<'_>)> {
     // An exponent only with at least one digit; else the `e` is left to the caller.
     let (exponent, rest) = match rest.split_first() {
         Some((b'e' | b'E', after)) => {
-            let (minus, after) = match after.split_first() {
-                Some((b'-', after)) => (true, after),
-                Some((b'+', after)) => (false, after),
-                _ => (false, after),
-            };
+            let (minus, after) = sign(after);
             let (written, after) = digits(after);
             if written.is_empty() {
                 (0, rest)
@@ -94,6 +86,15 @@ pub(crate) fn decimal(input: &[u8]) -> Option<(&[u8], Decimal<'_>)> {
             exponent,
         },
     ))
+}
+
+/// An optional `+` or `-` at the start of `input`: whether it is `-`, and the rest.
+fn sign(input: &[u8]) -> (bool, &[u8]) {
+    match input.split_first() {
+        Some((b'-', rest)) => (true, rest),
+        Some((b'+', rest)) => (false, rest),
+        _ => (false, input),
+    }
 }
 
 /// The ASCII digits at the start of `input`, and the rest.

@@ -187,7 +187,7 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
             }
             _ => None,
         };
-        let renderer = Self {
+        let mut renderer = Self {
             camera: scene.camera(),
             shader: Shader::new(scene.objects(), scene.lights(), scene.palette()),
             plan,
@@ -199,11 +199,8 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
             rows_shared: false,
         };
         // Rows are shaded together only with the plan (see `prepare_row`).
-        let rows_shared = renderer.planned() && renderer.shader().shares_rows();
-        Self {
-            rows_shared,
-            ..renderer
-        }
+        renderer.rows_shared = renderer.planned() && renderer.shader().shares_rows();
+        renderer
     }
 
     /// The same renderer showing `shading`.

@@ -46,6 +46,8 @@ pub struct RowRays<S> {
     eye: Vec3<S>,
     dy: S,
     dz: S,
+    /// What the rays' lengths share (see [`Scalar::row_squares`]).
+    squares: u64,
     x: Positions<S>,
     /// Added to every position along the row (anti-aliasing's sub-pixel samples).
     #[cfg(feature = "antialias")]
@@ -82,7 +84,8 @@ impl<S: Scalar> RowRays<S> {
 impl<S: Scalar> Iterator for RowRays<S> {
     type Item = Option<Ray<S>>;
 
-    #[inline]
+    // Always in line: the row's loop then works out what is the same along the row once.
+    #[inline(always)]
     fn next(&mut self) -> Option<Self::Item> {
         if self.left == 0 {
             return None;
@@ -99,7 +102,7 @@ impl<S: Scalar> Iterator for RowRays<S> {
             )
         } else {
             // The length is needed for the distance travelled wherever the ray hits.
-            let len = dir.length();
+            let len = S::row_length(dir.x, self.dy, self.dz, self.squares);
             Some((len > S::ZERO).then(|| Ray::with_length(self.eye, dir, len)))
         }
     }
@@ -434,10 +437,13 @@ impl<S: Scalar> Camera<S> {
         let height = self.height.saturating_sub(1);
         let on_screen_y = world_y.mul_ratio(y, height);
         let stride = stride.max(1);
+        let dy = on_screen_y - self.viewpoint.y;
+        let dz = S::ZERO - self.viewpoint.z;
         RowRays {
             eye: self.viewpoint,
-            dy: on_screen_y - self.viewpoint.y,
-            dz: S::ZERO - self.viewpoint.z,
+            dy,
+            dz,
+            squares: S::row_squares(dy, dz),
             x: Positions::new(world_x, self.width.saturating_sub(1), first, stride),
             #[cfg(feature = "antialias")]
             shift_x: S::ZERO,
@@ -452,6 +458,7 @@ impl<S: Scalar> Camera<S> {
     pub fn shifted_row_rays(&self, y: u16, first: u16, shift: [S; 2]) -> RowRays<S> {
         let mut rays = self.row_rays(y, first);
         rays.dy = rays.dy + shift[1];
+        rays.squares = S::row_squares(rays.dy, rays.dz);
         rays.shift_x = shift[0];
         rays
     }

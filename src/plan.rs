@@ -111,6 +111,8 @@ pub struct Plan<const OBJECTS: usize> {
     stages: Stages,
     kept: Vec<u16, OBJECTS>,
     spans: Vec<RowSpan, OBJECTS>,
+    /// Each kept object's image columns (`x = 0` the left), as `spans` holds its rows.
+    columns: Vec<RowSpan, OBJECTS>,
 }
 
 impl<const OBJECTS: usize> Plan<OBJECTS> {
@@ -127,11 +129,14 @@ impl<const OBJECTS: usize> Plan<OBJECTS> {
             stages: Stages::ALL,
             kept: Vec::new(),
             spans: Vec::new(),
+            columns: Vec::new(),
         };
         let view = View::of(camera);
+        let across = View::columns_of(camera);
         for (index, object) in objects.iter().enumerate() {
             if !wholly_in_front(object, z_limit.to_f64(), S::MIN_NORMAL) {
-                plan.keep(index, view.rows_of(object, S::MIN_NORMAL));
+                let rows = view.rows_of(object, S::MIN_NORMAL);
+                plan.keep(index, rows, across.rows_of(object, S::MIN_NORMAL));
             }
         }
         let used = |test: &dyn Fn(&Material<S>) -> bool| {
@@ -158,15 +163,16 @@ impl<const OBJECTS: usize> Plan<OBJECTS> {
         plan
     }
 
-    fn keep(&mut self, index: usize, span: RowSpan) {
+    fn keep(&mut self, index: usize, span: RowSpan, columns: RowSpan) {
         // Indices that do not fit u16 cannot be planned: with more objects than that the
         // plan keeps only the first 65536, so scenes add them only below that (see
-        // `Scene::add_object`).
+        // `Scene::add_object`). The three lists have the same capacity.
         if let Ok(index) = u16::try_from(index)
             && self.kept.push(index).is_ok()
-            && self.spans.push(span).is_err()
+            && (self.spans.push(span).is_err() || self.columns.push(columns).is_err())
         {
             self.kept.pop();
+            self.spans.truncate(self.kept.len());
         }
     }
 
@@ -177,6 +183,7 @@ impl<const OBJECTS: usize> Plan<OBJECTS> {
             stages: Stages::ALL,
             kept: Vec::new(),
             spans: Vec::new(),
+            columns: Vec::new(),
         }
     }
 
@@ -193,6 +200,12 @@ impl<const OBJECTS: usize> Plan<OBJECTS> {
     /// The row span of each kept object, in the order of [`kept`](Self::kept).
     pub fn spans(&self) -> &[RowSpan] {
         &self.spans
+    }
+
+    /// The column span of each kept object (`x = 0` the left: the image columns whose
+    /// primary rays can reach it), in the order of [`kept`](Self::kept).
+    pub fn columns(&self) -> &[RowSpan] {
+        &self.columns
     }
 
     /// The objects whose span contains row `y` (`y = 0` the bottom), in definition order.
@@ -287,8 +300,11 @@ fn widened(sin: f64, cos: f64) -> (f64, f64) {
     )
 }
 
-/// The camera seen along the x axis: the eye `(y, z)` and how a row maps to the image plane.
+/// The camera seen along the x axis (rows: the eye `(y, z)`) or along the y axis (columns:
+/// the eye `(x, z)`), and how a row or column maps to the image plane.
 struct View {
+    /// Columns: seen along y, coordinates `(x, z)`.
+    columns: bool,
     eye: [f64; 2],
     /// World units of the image plane per row.
     row_height: f64,
@@ -304,9 +320,32 @@ impl View {
         let eye = camera.viewpoint().to_f64();
         let rows = f64::from(camera.height().saturating_sub(1).max(1));
         Self {
+            columns: false,
             eye: [eye.y, eye.z],
             row_height: camera.world()[1].to_f64() / rows,
             height: camera.height(),
+        }
+    }
+
+    /// The same camera seen along the y axis: its columns, as [`of`](Self::of) sees rows
+    /// (all rays of an image column lie in one plane through the eye that holds the y axis).
+    fn columns_of<S: Scalar>(camera: &Camera<S>) -> Self {
+        let eye = camera.viewpoint().to_f64();
+        let columns = f64::from(camera.width().saturating_sub(1).max(1));
+        Self {
+            columns: true,
+            eye: [eye.x, eye.z],
+            row_height: camera.world()[0].to_f64() / columns,
+            height: camera.width(),
+        }
+    }
+
+    /// A point's coordinates as this view sees them, and the one it looks along.
+    fn seen(&self, v: Vec3<f64>) -> ([f64; 2], f64) {
+        if self.columns {
+            ([v.x, v.z], v.y)
+        } else {
+            ([v.y, v.z], v.x)
         }
     }
 
@@ -342,7 +381,8 @@ impl View {
 
     /// A sphere, seen along x, is a disc: the arc between the tangents from the eye.
     fn sphere(&self, center: Vec3<f64>, radius: f64, resolution: f64) -> Heights {
-        let c = [center.y - self.eye[0], center.z - self.eye[1]];
+        let (center, _) = self.seen(center);
+        let c = [center[0] - self.eye[0], center[1] - self.eye[1]];
         let distance = length(c);
         let r = radius + ANGLE_MARGIN * (distance + radius) + RESOLUTION_STEPS * resolution;
         if !(distance > r) {
@@ -362,7 +402,8 @@ impl View {
         let mut directions = [[0.0; 2]; 4];
         let mut blur_sin = 0.0f64;
         for (corner, direction) in corners.iter().zip(&mut directions) {
-            let c = [corner.y - self.eye[0], corner.z - self.eye[1]];
+            let (corner, _) = self.seen(*corner);
+            let c = [corner[0] - self.eye[0], corner[1] - self.eye[1]];
             let distance = length(c);
             let blur = RESOLUTION_STEPS * resolution + ANGLE_MARGIN * distance;
             if !(distance > 2.0 * blur) {
@@ -395,12 +436,12 @@ impl View {
     /// An infinite plane: all of the view unless it runs along x; then the half of the view
     /// on its side of the horizon, widened by turning the normal both ways.
     fn plane<S: Scalar>(&self, plane: &crate::object::Plane<S>) -> Heights {
-        let n = plane.unit_normal.to_f64();
-        if n.x != 0.0 {
+        let ([ny, nz], along) = self.seen(plane.unit_normal.to_f64());
+        if along != 0.0 {
             return Heights::ALL;
         }
         let [ey, ez] = self.eye;
-        let side = plane.n_dot_point.to_f64() - (n.y * ey + n.z * ez);
+        let side = plane.n_dot_point.to_f64() - (ny * ey + nz * ez);
         // The eye near the plane sees it in every row.
         if !(libm::fabs(side) > ANGLE_MARGIN * (libm::fabs(ey) + libm::fabs(ez) + 1.0)) {
             return Heights::ALL;
@@ -408,7 +449,7 @@ impl View {
         // Hit when sign(side) (n . d) > 0, d = (sy - ey, -ez): linear in sy.
         let sign = if side > 0.0 { 1.0 } else { -1.0 };
         let facing = |sin: f64| {
-            let [ny, nz] = turn([n.y, n.z], COS_MARGIN, sin);
+            let [ny, nz] = turn([ny, nz], COS_MARGIN, sin);
             Heights::ALL.where_nonnegative(sign * (-ny * ey - nz * ez), sign * ny)
         };
         facing(SIN_MARGIN).hull(facing(-SIN_MARGIN))

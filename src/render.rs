@@ -23,8 +23,8 @@
 use crate::bvh::Bvh;
 use crate::camera::{Camera, RowRays};
 use crate::hits::Among;
-use crate::object::RowEntry;
-use crate::plan::Plan;
+use crate::object::{RowEntry, RowTest};
+use crate::plan::{Plan, RowSpan};
 use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::scene::Scene;
@@ -507,28 +507,8 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         // What `with_row` and `fill_row` do for the progressive order's blocks, written
         // out: through them, every row costs 1-2 % more (tplane4, spotlight on the M4F).
         if self.prepare_row(camera_y, &rays, tests) {
-            match self.row_shading(shader, tests, &rays) {
-                // No object in the row (a scene's sky): every pixel black, with no ray
-                // made (the host's; the firmware keeps its flash).
-                #[cfg(feature = "batch")]
-                None if self.shading == Shading::Color
-                    && self.plan.in_row(camera_y).next().is_none() =>
-                {
-                    row.fill(Rgb888::new(0, 0, 0).into());
-                }
-                // A plane at the same `t` for every ray of the row.
-                Some(shading) => shade_row(shader, &shading, tests, rays, row),
-                // Stage by stage on the host (see `shade::batch`).
-                #[cfg(feature = "batch")]
-                None if self.shading == Shading::Color => {
-                    shade_batches(shader, tests, rays, row);
-                }
-                None => {
-                    for (slot, ray) in row.iter_mut().zip(rays) {
-                        *slot = self.color_in_row(shader, ray, tests).into();
-                    }
-                }
-            }
+            let spans = self.column_spans(tests, left, row.len());
+            self.shade_segments(shader, camera_y, left, tests, &spans, row);
         } else {
             for (slot, ray) in row.iter_mut().zip(rays) {
                 *slot = self.color(shader, ray, Among::All).into();
@@ -543,6 +523,124 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         target
             .fill_contiguous(&line, row.iter().copied())
             .map_err(RenderError::Target)
+    }
+
+    /// Shades a row whose tests are prepared into `row`; where some entries can be met only
+    /// in some of its columns (`spans`, see [`column_spans`](Self::column_spans)), segment
+    /// by segment, each with those entries turned to misses where they cannot be met: the
+    /// same pixels, fewer tests, and segments without such entries shaded as the row's
+    /// plane's.
+    #[inline(always)]
+    fn shade_segments<C: From<Rgb888> + Copy>(
+        &self,
+        shader: &Shader<'_, S>,
+        camera_y: u16,
+        left: u16,
+        tests: &mut [RowEntry<S>],
+        spans: &[(u8, RowSpan)],
+        row: &mut [C],
+    ) {
+        let rays = self.camera.row_rays(camera_y, left);
+        let mut shading = self.row_shading(shader, tests, &rays);
+        // No object in the row (a scene's sky): every pixel black, with no ray made (the
+        // host's; the firmware keeps its flash).
+        #[cfg(feature = "batch")]
+        if shading.is_none()
+            && self.shading == Shading::Color
+            && self.plan.in_row(camera_y).next().is_none()
+        {
+            row.fill(Rgb888::new(0, 0, 0).into());
+            return;
+        }
+        for (from, to) in segments(spans, left, row.len()) {
+            let Some(part) = row.get_mut(from..to) else {
+                break;
+            };
+            let first = left.saturating_add(u16::try_from(from).unwrap_or(u16::MAX));
+            for &(position, span) in spans {
+                if let Some(entry) = tests.get_mut(usize::from(position)) {
+                    entry.test = if span.contains(first) {
+                        RowTest::Hits
+                    } else {
+                        RowTest::Miss
+                    };
+                }
+            }
+            if !spans.is_empty()
+                && let Some(shading) = shading.as_mut()
+            {
+                shading.set_tested(tests);
+            }
+            let rays = self.camera.row_rays(camera_y, first);
+            self.shade_part(shader, tests, shading.as_ref(), rays, part);
+        }
+    }
+
+    /// Shades the rays `rays` of (part of) a row whose tests are prepared into `row`, with
+    /// the row's shading where its pixels share a plane. Out of line: the row's loops keep
+    /// their registers to themselves (in line in `render_row`, f32 scenes cost up to 30 %
+    /// more on the Cortex-M4F).
+    #[inline(never)]
+    fn shade_part<C: From<Rgb888> + Copy>(
+        &self,
+        shader: &Shader<'_, S>,
+        tests: &[RowEntry<S>],
+        shading: Option<&RowShading<'_, S>>,
+        rays: RowRays<S>,
+        row: &mut [C],
+    ) {
+        match shading {
+            Some(shading) => shade_row(shader, shading, tests, rays, row),
+            #[cfg(feature = "batch")]
+            None if self.shading == Shading::Color => {
+                shade_batches(shader, tests, rays, row);
+            }
+            None => {
+                for (slot, ray) in row.iter_mut().zip(rays) {
+                    *slot = self.color_in_row(shader, ray, tests).into();
+                }
+            }
+        }
+    }
+
+    /// The entries of a row's prepared tests (by position) that are tested ray by ray and
+    /// can be met only in some of the columns `left..left + width`, with their column
+    /// spans; empty when none (or too many: the row is then shaded whole).
+    fn column_spans(
+        &self,
+        tests: &[RowEntry<S>],
+        left: u16,
+        width: usize,
+    ) -> heapless::Vec<(u8, RowSpan), MAX_SPANNED> {
+        let mut spans = heapless::Vec::new();
+        // Built for size, rows are shaded whole (`shade_segments` is a second row loop).
+        if cfg!(microray_small) {
+            return spans;
+        }
+        let last = usize::from(left).saturating_add(width).saturating_sub(1);
+        let kept = self.plan.kept();
+        for (position, entry) in tests.iter().enumerate() {
+            if entry.test != RowTest::Hits {
+                continue;
+            }
+            let Ok(found) = kept.binary_search(&entry.index) else {
+                continue;
+            };
+            let Some(&span) = self.plan.columns().get(found) else {
+                continue;
+            };
+            if span.first <= left && usize::from(span.last) >= last {
+                continue;
+            }
+            let pushed = u8::try_from(position)
+                .ok()
+                .and_then(|position| spans.push((position, span)).ok());
+            if pushed.is_none() {
+                spans.clear();
+                break;
+            }
+        }
+        spans
     }
 
     /// Calls `f` with the primary rays of image row `y` (0 the top) and what its pixels
@@ -652,6 +750,36 @@ fn shade_row<S: Scalar, C: From<Rgb888>>(
 #[inline]
 fn bytes<S: Scalar>(c: Vec3<S>) -> Rgb888 {
     Rgb888::new(c.x.to_byte(), c.y.to_byte(), c.z.to_byte())
+}
+
+/// The most entries of a row cut into segments by their column spans (more: shaded whole).
+const MAX_SPANNED: usize = 6;
+
+/// The segments `from..to` of a row `width` pixels long (its first at column `left`,
+/// which the spans count from) in which the same entries' spans hold: cut where a span
+/// starts or ends.
+fn segments(
+    spans: &[(u8, RowSpan)],
+    left: u16,
+    width: usize,
+) -> impl Iterator<Item = (usize, usize)> {
+    let mut cuts = heapless::Vec::<usize, { 2 * MAX_SPANNED + 2 }>::new();
+    let _ = cuts.push(0);
+    let _ = cuts.push(width);
+    let from_left = |column: usize| column.saturating_sub(usize::from(left));
+    for &(_, span) in spans {
+        let ends = [
+            usize::from(span.first),
+            usize::from(span.last).saturating_add(1),
+        ];
+        for cut in ends.map(from_left) {
+            if cut > 0 && cut < width && !cuts.contains(&cut) {
+                let _ = cuts.push(cut);
+            }
+        }
+    }
+    cuts.sort_unstable();
+    (1..cuts.len()).filter_map(move |i| Some((*cuts.get(i - 1)?, *cuts.get(i)?)))
 }
 
 /// A row's list as the closest-hit search takes it.

@@ -223,13 +223,24 @@ mod random_geometry {
                 plan.spans()
             );
         }
+        // Columns likewise: rows are shaded in segments by them.
+        for x in 0..64u16 {
+            let seen = (0..48).any(|row| unplanned.object_at(x, row) == Some(0));
+            let listed = plan.columns().first().is_some_and(|span| span.contains(x));
+            prop_assert!(
+                !seen || listed,
+                "{}: column {x} sees the object but its span leaves it out ({:?})",
+                S::NAME,
+                plan.columns()
+            );
+        }
         Ok(())
     }
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(2000))]
         #[test]
-        fn spans_hold_every_row_that_sees_the_object(eye in camera(), object in object()) {
+        fn spans_hold_every_row_and_column_that_sees_the_object(eye in camera(), object in object()) {
             check::<f64>(eye, &object)?;
             check::<f32>(eye, &object)?;
             check::<I16F16>(eye, &object)?;
@@ -268,7 +279,7 @@ mod random_rooms {
     }
 
     fn object() -> impl Strategy<Value = (u8, [f64; 3], [f64; 3], usize)> {
-        (0..8u8, normal(), point(), 0..4usize)
+        (0..9u8, normal(), point(), 0..4usize)
     }
 
     fn material() -> impl Strategy<Value = ([f64; 3], [f64; 3], f64, f64)> {
@@ -326,6 +337,11 @@ mod random_rooms {
                 5 | 6 => {
                     let rect = RectDef::new(n, p, [1.0, 0.0, 0.0], [1.5, 1.5]);
                     ObjectDef::tiled_plane("o", NAMES[m], rect, NAMES[(m + 1) % 4])
+                }
+                // A panel: rows with one are shaded in segments (its column span).
+                7 => {
+                    let rect = RectDef::new(n, p, [1.0, 0.0, 0.0], [2.5, 1.5]);
+                    ObjectDef::fplane("o", NAMES[m], rect)
                 }
                 _ => ObjectDef::sphere("o", NAMES[m], p, 1.0),
             })

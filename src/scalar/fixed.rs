@@ -342,6 +342,16 @@ impl Scalar for I16F16 {
     const COURSE_ORDER: bool = false;
     const PIXEL_STEPS: PixelSteps = PixelSteps::Exact;
     type Wide = Wide;
+    /// `dy^2 + dz^2`, exact.
+    #[inline(always)]
+    fn row_squares(dy: Self, dz: Self) -> u64 {
+        square_bits(dy) + square_bits(dz)
+    }
+    /// [`length`](Scalar::length)'s exact sum of squares, two of them from the row.
+    #[inline(always)]
+    fn row_length(x: Self, _: Self, _: Self, squares: u64) -> Self {
+        Self::saturate(i64::from(isqrt(square_bits(x) + squares)))
+    }
     /// The exact 64-bit sum of the products, then 32 significant bits.
     #[inline]
     fn positive_dot(a: Vec3<Self>, b: Vec3<Self>) -> Option<Wide> {
@@ -584,14 +594,17 @@ impl Scalar for I16F16 {
     }
     #[inline]
     fn length(v: Vec3<Self>) -> Self {
-        let square = |x: Self| {
-            let b = x.to_bits().unsigned_abs();
-            mul_u32(b, b)
-        };
         // Each square is at most 2^62, so the sum of three fits in 64 bits.
-        let sum = square(v.x) + square(v.y) + square(v.z);
+        let sum = square_bits(v.x) + square_bits(v.y) + square_bits(v.z);
         Self::saturate(i64::from(isqrt(sum)))
     }
+}
+
+/// The square of a value's bits (at most 2^62: three of them sum within 64 bits).
+#[inline(always)]
+fn square_bits(x: I16F16) -> u64 {
+    let b = x.to_bits().unsigned_abs();
+    mul_u32(b, b)
 }
 
 /// `value * 2^16` rounded to the nearest integer, ties to even (what the `fixed` crate's

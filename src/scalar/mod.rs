@@ -107,6 +107,22 @@ pub trait Scalar:
     /// instructions on scenes of rectangles).
     const AXIS_READS: bool = true;
 
+    /// What the lengths of a row's primary ray directions `(x, dy, dz)` share along the
+    /// row, for [`row_length`](Self::row_length): fixed point's exact `dy^2 + dz^2`; the
+    /// floats, whose sum is rounded in order, share nothing.
+    #[inline(always)]
+    fn row_squares(dy: Self, dz: Self) -> u64 {
+        let _ = (dy, dz);
+        0
+    }
+    /// The length of `(x, dy, dz)`, bit for bit [`length`](Self::length)'s, given
+    /// `row_squares(dy, dz)`.
+    #[inline(always)]
+    fn row_length(x: Self, dy: Self, dz: Self, squares: u64) -> Self {
+        let _ = squares;
+        Self::length(Vec3::new(x, dy, dz))
+    }
+
     /// A wider positive number for the shading's quotients (distances squared times
     /// distances): the type itself for `f32` and `f64`, a 32-bit mantissa with an exponent
     /// for fixed point, whose range ends at 32768.

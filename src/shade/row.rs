@@ -111,6 +111,13 @@ impl<S: Scalar> RowShading<'_, S> {
 }
 
 impl<S: Scalar> RowShading<'_, S> {
+    /// Takes whether some objects are tested ray by ray from `tests`, the row's tests with
+    /// the entries that cannot be met in a segment of it turned to misses: the levels are
+    /// the same along the whole row (they come from its planes at one `t`).
+    pub(crate) fn set_tested(&mut self, tests: &[RowEntry<S>]) {
+        self.tested = row_plane(tests).is_some_and(|(_, _, tested)| tested);
+    }
+
     /// The object every ray of the row meets first, when no other object of the row is
     /// tested ray by ray.
     pub fn plane(&self) -> Option<usize> {

@@ -579,7 +579,12 @@ fn blocks<S: Scalar>(
 
 /// Whether `object` is hit with `t < limit` within the z rule.
 #[inline]
-fn object_blocks<S: Scalar>(object: &Object<S>, ray: &Ray<S>, limit: S, z_limit: S) -> bool {
+pub(crate) fn object_blocks<S: Scalar>(
+    object: &Object<S>,
+    ray: &Ray<S>,
+    limit: S,
+    z_limit: S,
+) -> bool {
     object
         .hits(ray, limit)
         .is_some_and(|t| ray.base.z + ray.dir.z * t <= z_limit)

@@ -24,7 +24,7 @@ use crate::bvh::Bvh;
 use crate::camera::{Camera, RowRays};
 use crate::hits::Among;
 use crate::object::{RowEntry, RowTest};
-use crate::plan::{Plan, RowSpan};
+use crate::plan::{Plan, RowSpan, ShadowBoxes};
 use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::scene::Scene;
@@ -147,6 +147,10 @@ pub struct Renderer<'s, S: Scalar, const OBJECTS: usize = 32> {
     /// Each light's list of the plan's objects that can block it (the host's `f64`).
     #[cfg(feature = "batch")]
     blockers: Option<crate::shade::LightBlockers>,
+    /// Where each object that depends on `x` can shadow the rows' planes, per light (with
+    /// rows shaded together; see [`crate::plan::ShadowBoxes`]).
+    #[cfg(feature = "plan")]
+    shadow_boxes: Option<ShadowBoxes>,
     planned: bool,
     shading: Shading,
     /// Whether rows can be shaded together in this render (see
@@ -194,12 +198,27 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
             bvh,
             #[cfg(feature = "batch")]
             blockers,
+            #[cfg(feature = "plan")]
+            shadow_boxes: None,
             planned: true,
             shading: Shading::Color,
             rows_shared: false,
         };
         // Rows are shaded together only with the plan (see `prepare_row`).
         renderer.rows_shared = renderer.planned() && renderer.shader().shares_rows();
+        // Built for size, rows test their shadow rays as they did (flash).
+        #[cfg(feature = "plan")]
+        if renderer.rows_shared
+            && !cfg!(microray_small)
+            && ShadowBoxes::possible(scene.objects(), renderer.plan.kept())
+        {
+            renderer.shadow_boxes = ShadowBoxes::new(
+                scene.camera(),
+                scene.lights(),
+                scene.objects(),
+                renderer.plan.kept(),
+            );
+        }
         renderer
     }
 
@@ -214,6 +233,12 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
     /// without the `plan` feature has no plan to switch on.
     pub fn with_plan(self, planned: bool) -> Self {
         Self { planned, ..self }
+    }
+
+    /// [`with_plan`](Self::with_plan) in place (no copy of the renderer: RAM on a
+    /// microcontroller, whose stack holds it under the render's calls).
+    pub fn set_plan(&mut self, planned: bool) {
+        self.planned = planned;
     }
 
     /// The bounding-volume hierarchy of the plan's objects (empty below
@@ -232,6 +257,16 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
     #[inline]
     fn planned(&self) -> bool {
         cfg!(feature = "plan") && self.planned
+    }
+
+    /// The shadow boxes, where this render has them (built for size there are none, and
+    /// no code for them).
+    #[inline]
+    fn boxes(&self) -> Option<&ShadowBoxes> {
+        #[cfg(feature = "plan")]
+        return self.shadow_boxes.as_ref().filter(|_| !cfg!(microray_small));
+        #[cfg(not(feature = "plan"))]
+        return None;
     }
 
     /// The shader with the plan's stages and objects, or everything without a plan.
@@ -422,7 +457,8 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
     ) -> Option<RowShading<'r, S>> {
         match self.shading {
             Shading::Color if self.rows_shared => {
-                shader.shared_row_shading(tests, &rays.origin(self.shader.z_limit()))
+                let origin = rays.origin(self.shader.z_limit());
+                shader.shared_row_shading(tests, &origin, self.boxes().is_some())
             }
             _ => None,
         }
@@ -508,7 +544,7 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         // out: through them, every row costs 1-2 % more (tplane4, spotlight on the M4F).
         if self.prepare_row(camera_y, &rays, tests) {
             let spans = self.column_spans(tests, left, row.len());
-            self.shade_segments(shader, camera_y, left, tests, &spans, row);
+            self.shade_segments(shader, camera_y, left, tests, &spans, rays, row);
         } else {
             for (slot, ray) in row.iter_mut().zip(rays) {
                 *slot = self.color(shader, ray, Among::All).into();
@@ -530,6 +566,7 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
     /// by segment, each with those entries turned to misses where they cannot be met: the
     /// same pixels, fewer tests, and segments without such entries shaded as the row's
     /// plane's.
+    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn shade_segments<C: From<Rgb888> + Copy>(
         &self,
@@ -538,9 +575,9 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         left: u16,
         tests: &mut [RowEntry<S>],
         spans: &[(u8, RowSpan)],
+        mut rays: RowRays<S>,
         row: &mut [C],
     ) {
-        let rays = self.camera.row_rays(camera_y, left);
         let mut shading = self.row_shading(shader, tests, &rays);
         // No object in the row (a scene's sky): every pixel black, with no ray made (the
         // host's; the firmware keeps its flash).
@@ -552,11 +589,25 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
             row.fill(Rgb888::new(0, 0, 0).into());
             return;
         }
-        for (from, to) in segments(spans, left, row.len()) {
+        let plane = shading.as_ref().and_then(RowShading::first_plane);
+        let boxes = self.boxes().zip(plane);
+        let width = row.len();
+        let mut from = 0;
+        while from < width {
+            // Built for size, there are neither spans nor boxes: one segment, no search.
+            let to = if cfg!(microray_small) {
+                width
+            } else {
+                next_cut(spans, boxes, camera_y, left, width, from)
+            };
             let Some(part) = row.get_mut(from..to) else {
                 break;
             };
             let first = left.saturating_add(u16::try_from(from).unwrap_or(u16::MAX));
+            if let (Some((boxes, _)), Some(shading)) = (boxes, shading.as_mut()) {
+                let last = left.saturating_add(u16::try_from(to - 1).unwrap_or(u16::MAX));
+                shading.set_segment(boxes, camera_y, first, last);
+            }
             for &(position, span) in spans {
                 if let Some(entry) = tests.get_mut(usize::from(position)) {
                     entry.test = if span.contains(first) {
@@ -571,22 +622,23 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
             {
                 shading.set_tested(tests);
             }
-            let rays = self.camera.row_rays(camera_y, first);
-            self.shade_part(shader, tests, shading.as_ref(), rays, part);
+            // The segments take the row's rays in turn.
+            self.shade_part(shader, tests, shading.as_ref(), &mut rays, part);
+            from = to;
         }
     }
 
-    /// Shades the rays `rays` of (part of) a row whose tests are prepared into `row`, with
-    /// the row's shading where its pixels share a plane. Out of line: the row's loops keep
-    /// their registers to themselves (in line in `render_row`, f32 scenes cost up to 30 %
-    /// more on the Cortex-M4F).
-    #[inline(never)]
+    /// Shades the next rays of `rays` of (part of) a row whose tests are prepared into `row`
+    /// (as many as it holds), with the row's shading where its pixels share a plane. The
+    /// loops are out of line: they keep their registers to themselves (in line in
+    /// `render_row`, f32 scenes cost up to 30 % more on the Cortex-M4F).
+    #[inline(always)]
     fn shade_part<C: From<Rgb888> + Copy>(
         &self,
         shader: &Shader<'_, S>,
         tests: &[RowEntry<S>],
         shading: Option<&RowShading<'_, S>>,
-        rays: RowRays<S>,
+        rays: &mut RowRays<S>,
         row: &mut [C],
     ) {
         match shading {
@@ -595,12 +647,24 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
             None if self.shading == Shading::Color => {
                 shade_batches(shader, tests, rays, row);
             }
-            None => {
-                for (slot, ray) in row.iter_mut().zip(rays) {
-                    *slot = self.color_in_row(shader, ray, tests).into();
-                }
-            }
+            None => self.shade_pixels(shader, tests, rays, row),
         }
+    }
+
+    /// The pixels of a row whose objects' tests are prepared, one by one.
+    #[inline(never)]
+    fn shade_pixels<C: From<Rgb888> + Copy>(
+        &self,
+        shader: &Shader<'_, S>,
+        tests: &[RowEntry<S>],
+        rays: &mut RowRays<S>,
+        row: &mut [C],
+    ) {
+        with_own_rays(rays, |rays| {
+            for (slot, ray) in row.iter_mut().zip(rays) {
+                *slot = self.color_in_row(shader, ray, tests).into();
+            }
+        });
     }
 
     /// The entries of a row's prepared tests (by position) that are tested ray by ray and
@@ -611,7 +675,7 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         tests: &[RowEntry<S>],
         left: u16,
         width: usize,
-    ) -> heapless::Vec<(u8, RowSpan), MAX_SPANNED> {
+    ) -> heapless::Vec<(u8, RowSpan), MAX_SPANNED, u8> {
         let mut spans = heapless::Vec::new();
         // Built for size, rows are shaded whole (`shade_segments` is a second row loop).
         if cfg!(microray_small) {
@@ -677,15 +741,17 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         &self,
         shader: &Shader<'_, S>,
         work: RowWork<'_, '_, S>,
-        rays: RowRays<S>,
+        mut rays: RowRays<S>,
         row: &mut [C],
     ) {
         match work {
             // A plane at the same `t` for every ray of the row.
-            RowWork::Planned(tests, Some(shading)) => shade_row(shader, shading, tests, rays, row),
+            RowWork::Planned(tests, Some(shading)) => {
+                shade_row(shader, shading, tests, &mut rays, row);
+            }
             #[cfg(feature = "batch")]
             RowWork::Planned(tests, None) if self.shading == Shading::Color => {
-                shade_batches(shader, tests, rays, row);
+                shade_batches(shader, tests, &mut rays, row);
             }
             RowWork::Planned(tests, None) => {
                 for (slot, ray) in row.iter_mut().zip(rays) {
@@ -709,14 +775,14 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
 fn shade_batches<S: Scalar, C: From<Rgb888>>(
     shader: &Shader<'_, S>,
     tests: &[RowEntry<S>],
-    mut rays: RowRays<S>,
+    rays: &mut RowRays<S>,
     row: &mut [C],
 ) {
     use crate::shade::BATCH;
     // Cleared once a row, not once a batch: every call writes all of it.
     let mut colors = [Vec3::ZERO; BATCH];
     for slots in row.chunks_mut(BATCH) {
-        shader.primary_batch_in_row(&mut rays, slots.len(), tests, &mut colors);
+        shader.primary_batch_in_row(rays, slots.len(), tests, &mut colors);
         for (slot, c) in slots.iter_mut().zip(&colors) {
             *slot = bytes(*c).into();
         }
@@ -730,7 +796,7 @@ fn shade_row<S: Scalar, C: From<Rgb888>>(
     shader: &Shader<'_, S>,
     shading: &RowShading<'_, S>,
     tests: &[RowEntry<S>],
-    rays: RowRays<S>,
+    rays: &mut RowRays<S>,
     row: &mut [C],
 ) {
     if shading.plain() {
@@ -746,6 +812,20 @@ fn shade_row<S: Scalar, C: From<Rgb888>>(
     }
 }
 
+/// Runs a row's loop `f` over `rays`, on a copy the loop keeps in registers that is handed
+/// back after it (on the Cortex-M0, through the pointer, spec0 costs 1 % more); built for
+/// size, on `rays` itself (the copy is a call).
+#[inline(always)]
+fn with_own_rays<S: Scalar>(rays: &mut RowRays<S>, f: impl FnOnce(&mut RowRays<S>)) {
+    if cfg!(microray_small) {
+        f(rays);
+    } else {
+        let mut own = rays.clone();
+        f(&mut own);
+        *rays = own;
+    }
+}
+
 /// A colour's channel bytes.
 #[inline]
 fn bytes<S: Scalar>(c: Vec3<S>) -> Rgb888 {
@@ -753,33 +833,36 @@ fn bytes<S: Scalar>(c: Vec3<S>) -> Rgb888 {
 }
 
 /// The most entries of a row cut into segments by their column spans (more: shaded whole).
-const MAX_SPANNED: usize = 6;
+const MAX_SPANNED: usize = 4;
 
-/// The segments `from..to` of a row `width` pixels long (its first at column `left`,
-/// which the spans count from) in which the same entries' spans hold: cut where a span
-/// starts or ends.
-fn segments(
+/// Where the segment of a row `width` pixels long (its first at column `left`, which the
+/// spans and boxes count from) that starts at `from` ends: at the first column after `from`
+/// where one of the entries' spans, or one of the shadow boxes on the row's plane (`boxes`,
+/// with the plane's index) that hold row `y`, starts or ends; `width` if none does. Found
+/// anew for each segment (a row has a few), with no list of cuts to keep or sort.
+fn next_cut(
     spans: &[(u8, RowSpan)],
+    boxes: Option<(&ShadowBoxes, usize)>,
+    y: u16,
     left: u16,
     width: usize,
-) -> impl Iterator<Item = (usize, usize)> {
-    let mut cuts = heapless::Vec::<usize, { 2 * MAX_SPANNED + 2 }>::new();
-    let _ = cuts.push(0);
-    let _ = cuts.push(width);
-    let from_left = |column: usize| column.saturating_sub(usize::from(left));
-    for &(_, span) in spans {
-        let ends = [
-            usize::from(span.first),
-            usize::from(span.last).saturating_add(1),
-        ];
-        for cut in ends.map(from_left) {
-            if cut > 0 && cut < width && !cuts.contains(&cut) {
-                let _ = cuts.push(cut);
-            }
+    from: usize,
+) -> usize {
+    let mut next = width;
+    let mut cut_at = |column: u16| {
+        let cut = usize::from(column.saturating_sub(left));
+        if cut > from && cut < next {
+            next = cut;
         }
+    };
+    for (_, span) in spans {
+        cut_at(span.first);
+        cut_at(span.last.saturating_add(1));
     }
-    cuts.sort_unstable();
-    (1..cuts.len()).filter_map(move |i| Some((*cuts.get(i - 1)?, *cuts.get(i)?)))
+    if let Some((boxes, plane)) = boxes {
+        boxes.cuts(plane, y, &mut cut_at);
+    }
+    next
 }
 
 /// A row's list as the closest-hit search takes it.

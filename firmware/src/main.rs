@@ -480,10 +480,10 @@ fn render_frame(
     );
     RENDER_BASE.store(stack::depth(), Ordering::Relaxed);
     microray_count_start();
-    let result =
-        Renderer::new(scene)
-            .with_plan(planned)
-            .render_area(&mut target, all, &mut row, |_| ControlFlow::Continue(()));
+    // One renderer in this frame, changed in place (its copies sit under the render's calls).
+    let mut renderer = Renderer::new(scene);
+    renderer.set_plan(planned);
+    let result = renderer.render_area(&mut target, all, &mut row, |_| ControlFlow::Continue(()));
     microray_count_stop();
     microray_count_frame();
     result.map(|_| ()).map_err(|_| "render failed")

@@ -26,9 +26,10 @@
 //! decided) costs spec0 about a third of the per-pixel path on a Cortex-M4F.
 
 use super::{MAX_DEPTH, Onward, Path, Shader, add_diffuse, glint, in_cone, reflect, with_ambient};
-use crate::hits::{Among, closest_hit_among, closest_hit_in_row, row_plane};
+use crate::hits::{Among, closest_hit_among, closest_hit_in_row, object_blocks, row_plane};
 use crate::light::Light;
 use crate::object::{Hit, RowEntry, RowOrigin, Surface};
+use crate::plan::ShadowBoxes;
 use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::vec3::Vec3;
@@ -46,6 +47,8 @@ pub const ROW_LEVELS: usize = 2;
 #[derive(Clone, Copy, Debug)]
 struct RowLight<'s, S: Scalar> {
     light: &'s Light<S>,
+    /// Its place in the scene's list (for the render plan's shadow boxes).
+    number: u8,
     /// `L . n`, above zero.
     cos_d: S::Wide,
     /// The surface's diffuse times the light's.
@@ -85,6 +88,9 @@ struct Level<'s, S: Scalar> {
     transparent: bool,
     /// Whether some lights' shadow rays are tested by each pixel.
     shadows_per_pixel: bool,
+    /// Whether the row decided only the objects that ignore `x` for its lights: each
+    /// segment of the row learns from the shadow boxes which lights its pixels test.
+    by_boxes: bool,
 }
 
 /// The rays of one row meeting one plain plane at one `t`, and their mirror rays the next
@@ -118,6 +124,30 @@ impl<S: Scalar> RowShading<'_, S> {
         self.tested = row_plane(tests).is_some_and(|(_, _, tested)| tested);
     }
 
+    /// Sets which lights' shadow rays the pixels of row `y`, columns `first..=last`, test
+    /// on the row's plane: those whose shadow boxes of objects that depend on `x` hold them
+    /// (a row made with `by_boxes`; the others test every light that needs it).
+    pub(crate) fn set_segment(&mut self, boxes: &ShadowBoxes, y: u16, first: u16, last: u16) {
+        let Some(level) = self.levels.first_mut() else {
+            return;
+        };
+        if !level.by_boxes {
+            return;
+        }
+        let own = level.index;
+        let mut any = false;
+        for lit in &mut level.lights {
+            lit.shadow_per_pixel = boxes.may_block(usize::from(lit.number), own, y, first, last);
+            any |= lit.shadow_per_pixel;
+        }
+        level.shadows_per_pixel = any;
+    }
+
+    /// The plane the row's primary rays meet at one `t` (those that meet nothing nearer).
+    pub(crate) fn first_plane(&self) -> Option<usize> {
+        self.levels.first().map(|level| level.index)
+    }
+
     /// The object every ray of the row meets first, when no other object of the row is
     /// tested ray by ray.
     pub fn plane(&self) -> Option<usize> {
@@ -142,7 +172,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         if !self.shares_rows() {
             return None;
         }
-        self.shared_row_shading(row, origin)
+        self.shared_row_shading(row, origin, false)
     }
 
     /// Whether this shader's rows can be shaded together at all: not in `f64` (the
@@ -164,6 +194,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         &self,
         row: &[RowEntry<S>],
         origin: &RowOrigin<S>,
+        by_boxes: bool,
     ) -> Option<RowShading<'s, S>> {
         let shadows = self.stages.illumination && self.stages.shadows;
         let (mut index, mut t, tested) = row_plane(row)?;
@@ -183,7 +214,10 @@ impl<'s, S: Scalar> Shader<'s, S> {
             }
             let surface = object.surface(&self.palette, &ray, t)?;
             let shadow_per_pixel = shadows && !(all_ignore_x || self.shadows_ignore_x(index));
-            let lights = self.row_lights(&surface, index, shadows, shadow_per_pixel);
+            // The primary rays' plane: the render plan's shadow boxes tell each segment of
+            // the row which lights its pixels test.
+            let by_boxes = by_boxes && shadow_per_pixel && levels.is_empty();
+            let lights = self.row_lights(&surface, index, shadows, shadow_per_pixel, by_boxes);
             let (point, normal) = (surface.hit.point, surface.hit.normal);
             let material = surface.material;
             let mut level = Level {
@@ -198,6 +232,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 ambient: !surface.ambient.is_zero(),
                 transparent: self.transmits(material),
                 shadows_per_pixel: shadow_per_pixel,
+                by_boxes,
             };
             if !self.mirrors(material) {
                 // Cannot fail: a level is added only below the capacity.
@@ -233,20 +268,22 @@ impl<'s, S: Scalar> Shader<'s, S> {
     }
 
     /// The lights that can reach a level's surface along the row; shadow rays are tested
-    /// once for the row, or by each pixel when `shadow_per_pixel`.
+    /// once for the row, or by each pixel when `shadow_per_pixel`; `by_boxes`, the objects
+    /// that ignore `x` are tested once for the row, and the others by each pixel.
     fn row_lights(
         &self,
         surface: &Surface<'s, S>,
         index: usize,
         shadows: bool,
         shadow_per_pixel: bool,
+        by_boxes: bool,
     ) -> heapless::Vec<RowLight<'s, S>, ROW_LIGHTS> {
         let (point, normal) = (surface.hit.point, surface.hit.normal);
         let mut lights = heapless::Vec::new();
         if !self.stages.illumination {
             return lights;
         }
-        for light in self.lights {
+        for (number, light) in self.lights.iter().enumerate() {
             let to_light = light.location - point;
             let Some(cos_d) = S::positive_dot_unit(to_light, normal) else {
                 continue;
@@ -254,10 +291,14 @@ impl<'s, S: Scalar> Shader<'s, S> {
             if shadows && !shadow_per_pixel && self.blocked(point, to_light, index, light) {
                 continue;
             }
+            if by_boxes && self.blocked_ignoring_x(point, to_light, index) {
+                continue;
+            }
             let lit = surface.diffuse.mul_each(light.diffuse_emissivity);
             // Cannot fail: the row's shading is only made for at most `ROW_LIGHTS` lights.
             let _ = lights.push(RowLight {
                 light,
+                number: u8::try_from(number).unwrap_or(u8::MAX),
                 cos_d,
                 lit,
                 shadow_per_pixel,
@@ -434,6 +475,26 @@ impl<'s, S: Scalar> Shader<'s, S> {
             return c;
         }
         with_ambient(c, level.surface.ambient, per_total, total)
+    }
+
+    /// Whether an object that ignores `x` (but the one at `index`) is in the way from
+    /// `from` to `from + l`: [`blocked`](Self::blocked) among those objects only, whose
+    /// answer is the same for every pixel of a row.
+    fn blocked_ignoring_x(&self, from: Vec3<S>, l: Vec3<S>, index: usize) -> bool {
+        let shadow = Ray::new(from, l);
+        let mut blocked = false;
+        self.among.each(self.objects, |i, object| {
+            if i != index
+                && object.hits_ignore_x()
+                && object_blocks(object, &shadow, S::ONE, self.z_limit)
+            {
+                blocked = true;
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        });
+        blocked
     }
 
     /// Whether every object rays can meet ignores `x`.

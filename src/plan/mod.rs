@@ -27,6 +27,9 @@ use crate::scalar::Scalar;
 use crate::vec3::Vec3;
 use heapless::Vec;
 
+mod shadows;
+pub use shadows::{BOXES, OCCLUDERS, ScreenBox, ShadowBoxes};
+
 /// Angular widening of every bound, in radians: far above the direction error of any number
 /// type microray has (about 1e-5 for Q16.16).
 const ANGLE_MARGIN: f64 = 2e-3;
@@ -398,24 +401,32 @@ impl View {
     }
 
     /// A rectangle, seen along x, is the hull of its corners: the arc their directions span.
-    fn outline(&self, corners: &[Vec3<f64>; 4], resolution: f64) -> Heights {
-        let mut directions = [[0.0; 2]; 4];
-        let mut blur_sin = 0.0f64;
-        for (corner, direction) in corners.iter().zip(&mut directions) {
+    /// Any set of points: the arc of its hull.
+    fn outline(&self, corners: &[Vec3<f64>], resolution: f64) -> Heights {
+        let direction = |corner: &Vec3<f64>| {
             let (corner, _) = self.seen(*corner);
-            let c = [corner[0] - self.eye[0], corner[1] - self.eye[1]];
-            let distance = length(c);
-            let blur = RESOLUTION_STEPS * resolution + ANGLE_MARGIN * distance;
-            if !(distance > 2.0 * blur) {
+            [corner[0] - self.eye[0], corner[1] - self.eye[1]]
+        };
+        let Some(first) = corners.first() else {
+            return Heights::ALL;
+        };
+        let mut blur_sin = 0.0f64;
+        for corner in corners {
+            // Bounds on the distance without a square root (soft float's are slow): `|d|_1`
+            // above it, `|d|_1 / sqrt 2` below.
+            let [dx, dy] = direction(corner);
+            let above = libm::fabs(dx) + libm::fabs(dy);
+            let below = above * core::f64::consts::FRAC_1_SQRT_2;
+            let blur = RESOLUTION_STEPS * resolution + ANGLE_MARGIN * above;
+            if !(below > 2.0 * blur) {
                 return Heights::ALL;
             }
-            blur_sin = blur_sin.max(blur / distance);
-            *direction = c;
+            blur_sin = blur_sin.max(blur / below);
         }
         // Sweep out the extremes from the first corner; within less than half a turn each
         // corner is clockwise of `low`, anticlockwise of `high`, or between them.
-        let (mut low, mut high) = (directions[0], directions[0]);
-        for &d in &directions[1..] {
+        let (mut low, mut high) = (direction(first), direction(first));
+        for d in corners.iter().skip(1).map(direction) {
             if cross(high, d) > 0.0 {
                 high = d;
             } else if cross(d, low) > 0.0 {
@@ -423,9 +434,10 @@ impl View {
             }
         }
         // More than half a turn (the eye inside the outline) breaks the sweep: all rows.
-        let spans_all = directions
+        let spans_all = corners
             .iter()
-            .all(|&d| cross(low, d) >= 0.0 && cross(d, high) >= 0.0);
+            .map(direction)
+            .all(|d| cross(low, d) >= 0.0 && cross(d, high) >= 0.0);
         if !spans_all || cross(low, high) < 0.0 {
             return Heights::ALL;
         }

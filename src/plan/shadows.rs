@@ -1,0 +1,334 @@
+//! Where each object's shadows can fall on the screen: for each light and each object whose
+//! test depends on `x` (a ball, a panel), a box of image rows and columns outside which no
+//! primary ray meets a plain plane at a point that object shadows from that light.
+//!
+//! A point light `L` casts the shadow of a convex object `O` onto a plane `R` as the
+//! central projection of `O` from `L` onto `R`: where every vertex `V` of a polytope holding
+//! `O` lies nearer `R` than `L` does (`d(V) < d(L)`, distances along `R`'s normal on `L`'s
+//! side), the projection `L + d(L) / (d(L) - d(V)) (V - L)` of each vertex lies on `R`, and
+//! the shadow lies in their hull (vertices beyond `R` project between `L` and themselves:
+//! the part of `O` on `R`'s far side casts nothing a ray from `R` to `L` could meet, and the
+//! hull still holds the rest). The primary rays that meet `R` inside that hull are those of
+//! the pixels of its outline on screen, worked out as the render plan works out an object's
+//! rows and columns ([`View::outline`](super::View)). A plane whose normal has no `x` part is
+//! the only kind a row's shading puts at one `t` ([`crate::shade::RowShading`]): such rows
+//! test a light's shadow rays pixel by pixel only where one of these boxes holds the pixel,
+//! and decide the rest once a row with the objects that ignore `x`.
+//!
+//! Every bound is conservative: the polytope is the object widened by 256 steps of the
+//! type's resolution and 2e-3 of its distance from the light and from the origin (far above
+//! the rounding of a shadow ray's test in any type), and the outline widens it again as the
+//! plan does. A panel nearly in line with the light (its plane within 1/64 of the light's
+//! distance from it), where a shadow ray's crossing of its plane is found with a large
+//! error, and a light nearly as far from a receiver as the object is, get the whole screen.
+//! `tests/plan.rs` renders random rooms with balls and panels both ways.
+
+use super::{ANGLE_MARGIN, RowSpan, View};
+use crate::camera::Camera;
+use crate::light::Light;
+use crate::object::{Object, Shape};
+use crate::scalar::Scalar;
+use crate::vec3::Vec3;
+use heapless::Vec;
+
+/// The most objects that depend on `x` a render with boxes may have.
+pub const OCCLUDERS: usize = 4;
+
+/// Widening in steps of the type's resolution.
+const SHADOW_STEPS: f64 = 256.0;
+
+/// A panel's plane must lie at least this far from the light, relative to the light's
+/// distance from its corners.
+const GRAZING: f64 = 1.0 / 64.0;
+
+/// How much nearer a receiver than the light every vertex must be, relative to the light's
+/// distance from it.
+const NEARER: f64 = 1.0 / 1024.0;
+
+/// A box of image rows (`y = 0` the bottom) and columns (`x = 0` the left).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ScreenBox {
+    /// The rows.
+    pub rows: RowSpan,
+    /// The columns.
+    pub columns: RowSpan,
+}
+
+impl ScreenBox {
+    /// The whole screen.
+    pub const ALL: Self = Self {
+        rows: RowSpan::ALL,
+        columns: RowSpan::ALL,
+    };
+}
+
+/// Shadow boxes of the objects that depend on `x`, per light and receiving plane (see the
+/// module's docs): where one is missing, that light's shadow rays from that plane are
+/// tested pixel by pixel.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShadowBoxes {
+    /// How many objects depend on `x`.
+    occluders: u8,
+    /// The boxes: a light's (by its place in the scene's list) on one receiving plane (by
+    /// index), one for each occluder (all or none).
+    entries: Vec<Entry, BOXES, u8>,
+}
+
+/// The most boxes kept (a light's boxes for one plane come all or none).
+pub const BOXES: usize = 6;
+
+/// One light's shadow boxes on one receiving plane.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Entry {
+    light: u8,
+    receiver: u8,
+    screen: ScreenBox,
+}
+
+impl ShadowBoxes {
+    /// Whether a scene's kept objects can have boxes: some depend on `x`, all of those are
+    /// bounded, and there are at most [`OCCLUDERS`] (checked before [`new`](Self::new), whose
+    /// frame is large: RAM on a Cortex-M0).
+    pub fn possible<S: Scalar>(objects: &[Object<S>], kept: &[u16]) -> bool {
+        let mut occluders = 0;
+        for &index in kept {
+            match objects.get(usize::from(index)) {
+                Some(object) if object.hits_ignore_x() => {}
+                Some(object) if bounded(object) => occluders += 1,
+                _ => return false,
+            }
+        }
+        occluders > 0 && occluders <= OCCLUDERS
+    }
+
+    /// The boxes for a scene's lights and kept objects; `None` where there are none (no
+    /// object that depends on `x`, one that is not bounded, or no shadow that is). Out of
+    /// line: its `f64` arrays stay out of the caller's frame (RAM on a Cortex-M0).
+    #[inline(never)]
+    pub fn new<S: Scalar>(
+        camera: &Camera<S>,
+        lights: &[Light<S>],
+        objects: &[Object<S>],
+        kept: &[u16],
+    ) -> Option<Self> {
+        let mut occluders = Vec::<u16, OCCLUDERS>::new();
+        let mut receivers = Vec::<u8, 4>::new();
+        for &index in kept {
+            let object = objects.get(usize::from(index))?;
+            if object.hits_ignore_x() {
+                // More planes than that, or past 255: their rows test every pixel.
+                if let Ok(index) = u8::try_from(index) {
+                    let _ = receivers.push(index);
+                }
+            } else if bounded(object) {
+                occluders.push(index).ok()?;
+            } else {
+                // An unbounded object that depends on `x` (a plane leaning along x) may
+                // shadow any pixel: no box would leave one out.
+                return None;
+            }
+        }
+        if occluders.is_empty() {
+            return None;
+        }
+        let rows = View::of(camera);
+        let columns = View::columns_of(camera);
+        let mut entries = Vec::new();
+        for (number, light) in lights.iter().enumerate() {
+            let number = u8::try_from(number).ok()?;
+            for &receiver in &receivers {
+                // One shadow that is not bounded, and every pixel tests the light: the
+                // others are not worth their outlines (soft float's `f64`).
+                let bounded = occluders.iter().all(|&index| {
+                    objects.get(usize::from(index)).is_some_and(|object| {
+                        shadow_points::<S>(light, object, receiver.into(), objects, false).is_some()
+                    })
+                });
+                if !bounded || entries.len() + occluders.len() > BOXES {
+                    continue;
+                }
+                for &index in &occluders {
+                    let object = objects.get(usize::from(index))?;
+                    let points = shadow_points::<S>(light, object, receiver.into(), objects, true)?;
+                    let mut screen = ScreenBox {
+                        rows: rows.span(rows.outline(&points, S::MIN_NORMAL)),
+                        columns: columns.span(columns.outline(&points, S::MIN_NORMAL)),
+                    };
+                    // Every column: no row is cut for it.
+                    if screen.columns.first == 0
+                        && screen.columns.last >= camera.width().saturating_sub(1)
+                    {
+                        screen.columns = RowSpan::ALL;
+                    }
+                    let entry = Entry {
+                        light: number,
+                        receiver,
+                        screen,
+                    };
+                    entries.push(entry).ok()?;
+                }
+            }
+        }
+        let occluders = u8::try_from(occluders.len()).ok()?;
+        (!entries.is_empty()).then_some(Self { occluders, entries })
+    }
+
+    /// Light `light`'s boxes on the plane at `receiver`, one per occluder, if it has them.
+    fn boxes_of(&self, light: usize, receiver: usize) -> impl Iterator<Item = &Entry> + '_ {
+        self.entries
+            .iter()
+            .filter(move |e| usize::from(e.light) == light && usize::from(e.receiver) == receiver)
+    }
+
+    /// Whether a shadow ray towards light `light` from a primary ray's hit on the plane at
+    /// `own`, at row `y`, in columns `first..=last`, may be blocked by an object that
+    /// depends on `x`.
+    pub fn may_block(&self, light: usize, own: usize, y: u16, first: u16, last: u16) -> bool {
+        let mut boxes = 0;
+        for entry in self.boxes_of(light, own) {
+            boxes += 1;
+            let b = entry.screen;
+            if b.rows.contains(y) && b.columns.first <= last && first <= b.columns.last {
+                return true;
+            }
+        }
+        boxes < usize::from(self.occluders)
+    }
+
+    /// Calls `cut` with the columns where the boxes of row `y` on the plane at `own` start
+    /// and end (a box's last column plus one), of the lights whose boxes leave some of the
+    /// row's columns out: where the row is cut into segments.
+    pub fn cuts(&self, own: usize, y: u16, mut cut: impl FnMut(u16)) {
+        for entry in &self.entries {
+            let light = usize::from(entry.light);
+            let b = entry.screen;
+            if usize::from(entry.receiver) != own || !b.rows.contains(y) {
+                continue;
+            }
+            let whole = self
+                .boxes_of(light, own)
+                .any(|e| e.screen.rows.contains(y) && e.screen.columns == RowSpan::ALL);
+            if !whole {
+                cut(b.columns.first);
+                cut(b.columns.last.saturating_add(1));
+            }
+        }
+    }
+}
+
+/// The projections from `light` onto the plane of `receiver` of the vertices of a
+/// polytope holding `object`, widened (computed only when `project`); `None` where the
+/// shadow is not bounded that way (see the module's docs).
+fn shadow_points<S: Scalar>(
+    light: &Light<S>,
+    object: &Object<S>,
+    receiver: u16,
+    objects: &[Object<S>],
+    project: bool,
+) -> Option<[Vec3<f64>; 8]> {
+    let l = light.location.to_f64();
+    let mut points = widened_vertices(object, l, S::MIN_NORMAL)?;
+    let plane = objects.get(usize::from(receiver))?.infinite_plane()?;
+    let n = plane.unit_normal.to_f64();
+    let offset = plane.n_dot_point.to_f64();
+    let above = n.dot(l) - offset;
+    let side = if above > 0.0 { 1.0 } else { -1.0 };
+    let height = libm::fabs(above);
+    for v in &mut points {
+        let d = side * (n.dot(*v) - offset);
+        if !(d < height * (1.0 - NEARER)) {
+            return None;
+        }
+        if project {
+            *v = l + (*v - l) * (height / (height - d));
+        }
+    }
+    Some(points)
+}
+
+/// Whether `object` is of a kind [`widened_vertices`] holds in a polytope.
+fn bounded<S: Scalar>(object: &Object<S>) -> bool {
+    match object.shape() {
+        Shape::Sphere(_) | Shape::FPlane(_) | Shape::TexPlane(_) => true,
+        Shape::RevSurf(_) => cfg!(feature = "revsurf"),
+        Shape::Plane(_) | Shape::TiledPlane(_) => false,
+    }
+}
+
+/// The vertices of a polytope holding `object` widened by the module's margins (seen from
+/// a light at `l`): a box about a ball, a slab about a panel; `None` for other kinds and for
+/// a panel nearly in line with the light.
+fn widened_vertices<S: Scalar>(
+    object: &Object<S>,
+    l: Vec3<f64>,
+    resolution: f64,
+) -> Option<[Vec3<f64>; 8]> {
+    let margin = |points: &[Vec3<f64>]| {
+        let reach = points
+            .iter()
+            .map(|&p| norm_1(p - l) + norm_1(p))
+            .fold(0.0, f64::max);
+        SHADOW_STEPS * resolution + ANGLE_MARGIN * reach
+    };
+    let (center, radius) = match object.shape() {
+        Shape::Sphere(s) => (s.center.to_f64(), s.radius.to_f64()),
+        Shape::RevSurf(s) if cfg!(feature = "revsurf") => (s.center.to_f64(), s.bound.to_f64()),
+        Shape::FPlane(rect) => return slab(rect, l, &margin),
+        Shape::TexPlane(textured) => return slab(&textured.rect, l, &margin),
+        _ => return None,
+    };
+    let reach = Vec3::new(radius, radius, radius);
+    let m = margin(&[center - reach, center + reach]);
+    let r = radius + m;
+    let signs = [-1.0, 1.0];
+    let mut vertices = [center; 8];
+    let mut i = 0;
+    for sx in signs {
+        for sy in signs {
+            for sz in signs {
+                if let Some(v) = vertices.get_mut(i) {
+                    *v = center + Vec3::new(sx * r, sy * r, sz * r);
+                }
+                i += 1;
+            }
+        }
+    }
+    Some(vertices)
+}
+
+/// `|v|_1`, at least `|v|` (without a square root: soft float's are slow).
+fn norm_1(v: Vec3<f64>) -> f64 {
+    libm::fabs(v.x) + libm::fabs(v.y) + libm::fabs(v.z)
+}
+
+/// A panel's corners moved out along its sides and off its plane both ways by the margin.
+fn slab<S: Scalar>(
+    rect: &crate::object::Rect<S>,
+    l: Vec3<f64>,
+    margin: &dyn Fn(&[Vec3<f64>]) -> f64,
+) -> Option<[Vec3<f64>; 8]> {
+    let [p, across, up] = rect.corner_and_sides();
+    let corners = [p, p + across, p + across + up, p + up];
+    let n = rect.plane.unit_normal.to_f64();
+    let farthest = corners
+        .iter()
+        .map(|&c| (c - l).length())
+        .fold(0.0, f64::max);
+    if !(libm::fabs(n.dot(l - p)) >= GRAZING * farthest) {
+        return None;
+    }
+    let m = margin(&corners);
+    let (a, b) = (
+        across.unit_f64().unwrap_or(Vec3::ZERO) * m,
+        up.unit_f64().unwrap_or(Vec3::ZERO) * m,
+    );
+    let out = [-a - b, a - b, a + b, b - a];
+    let mut vertices = [p; 8];
+    for (i, v) in vertices.iter_mut().enumerate() {
+        let corner = corners.get(i % 4).copied().unwrap_or(p);
+        let aside = out.get(i % 4).copied().unwrap_or(Vec3::ZERO);
+        let off = if i < 4 { n * m } else { n * -m };
+        *v = corner + aside + off;
+    }
+    Some(vertices)
+}

@@ -575,7 +575,7 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         left: u16,
         tests: &mut [RowEntry<S>],
         spans: &[(u8, RowSpan)],
-        mut rays: RowRays<S>,
+        rays: RowRays<S>,
         row: &mut [C],
     ) {
         let mut shading = self.row_shading(shader, tests, &rays);
@@ -622,14 +622,21 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
             {
                 shading.set_tested(tests);
             }
-            // The segments take the row's rays in turn.
-            self.shade_part(shader, tests, shading.as_ref(), &mut rays, part);
+            // Each segment's rays by value, made afresh after the first: the loops keep them
+            // in registers and work out what is the same along the row once (through a
+            // pointer, soft-float f32 spec0 cost the Cortex-M0 16 % more).
+            let part_rays = if from == 0 {
+                rays.clone()
+            } else {
+                self.camera.row_rays(camera_y, first)
+            };
+            self.shade_part(shader, tests, shading.as_ref(), part_rays, part);
             from = to;
         }
     }
 
-    /// Shades the next rays of `rays` of (part of) a row whose tests are prepared into `row`
-    /// (as many as it holds), with the row's shading where its pixels share a plane. The
+    /// Shades the rays `rays` of (part of) a row whose tests are prepared into `row` (as
+    /// many as it holds), with the row's shading where its pixels share a plane. The
     /// loops are out of line: they keep their registers to themselves (in line in
     /// `render_row`, f32 scenes cost up to 30 % more on the Cortex-M4F).
     #[inline(always)]
@@ -638,7 +645,7 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         shader: &Shader<'_, S>,
         tests: &[RowEntry<S>],
         shading: Option<&RowShading<'_, S>>,
-        rays: &mut RowRays<S>,
+        rays: RowRays<S>,
         row: &mut [C],
     ) {
         match shading {
@@ -657,14 +664,12 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         &self,
         shader: &Shader<'_, S>,
         tests: &[RowEntry<S>],
-        rays: &mut RowRays<S>,
+        rays: RowRays<S>,
         row: &mut [C],
     ) {
-        with_own_rays(rays, |rays| {
-            for (slot, ray) in row.iter_mut().zip(rays) {
-                *slot = self.color_in_row(shader, ray, tests).into();
-            }
-        });
+        for (slot, ray) in row.iter_mut().zip(rays) {
+            *slot = self.color_in_row(shader, ray, tests).into();
+        }
     }
 
     /// The entries of a row's prepared tests (by position) that are tested ray by ray and
@@ -741,17 +746,15 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         &self,
         shader: &Shader<'_, S>,
         work: RowWork<'_, '_, S>,
-        mut rays: RowRays<S>,
+        rays: RowRays<S>,
         row: &mut [C],
     ) {
         match work {
             // A plane at the same `t` for every ray of the row.
-            RowWork::Planned(tests, Some(shading)) => {
-                shade_row(shader, shading, tests, &mut rays, row);
-            }
+            RowWork::Planned(tests, Some(shading)) => shade_row(shader, shading, tests, rays, row),
             #[cfg(feature = "batch")]
             RowWork::Planned(tests, None) if self.shading == Shading::Color => {
-                shade_batches(shader, tests, &mut rays, row);
+                shade_batches(shader, tests, rays, row);
             }
             RowWork::Planned(tests, None) => {
                 for (slot, ray) in row.iter_mut().zip(rays) {
@@ -775,14 +778,14 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
 fn shade_batches<S: Scalar, C: From<Rgb888>>(
     shader: &Shader<'_, S>,
     tests: &[RowEntry<S>],
-    rays: &mut RowRays<S>,
+    mut rays: RowRays<S>,
     row: &mut [C],
 ) {
     use crate::shade::BATCH;
     // Cleared once a row, not once a batch: every call writes all of it.
     let mut colors = [Vec3::ZERO; BATCH];
     for slots in row.chunks_mut(BATCH) {
-        shader.primary_batch_in_row(rays, slots.len(), tests, &mut colors);
+        shader.primary_batch_in_row(&mut rays, slots.len(), tests, &mut colors);
         for (slot, c) in slots.iter_mut().zip(&colors) {
             *slot = bytes(*c).into();
         }
@@ -796,7 +799,7 @@ fn shade_row<S: Scalar, C: From<Rgb888>>(
     shader: &Shader<'_, S>,
     shading: &RowShading<'_, S>,
     tests: &[RowEntry<S>],
-    rays: &mut RowRays<S>,
+    rays: RowRays<S>,
     row: &mut [C],
 ) {
     if shading.plain() {
@@ -809,20 +812,6 @@ fn shade_row<S: Scalar, C: From<Rgb888>>(
             let c = ray.map_or(Vec3::ZERO, |ray| shader.shade_in_row(shading, tests, &ray));
             *slot = bytes(c).into();
         }
-    }
-}
-
-/// Runs a row's loop `f` over `rays`, on a copy the loop keeps in registers that is handed
-/// back after it (on the Cortex-M0, through the pointer, spec0 costs 1 % more); built for
-/// size, on `rays` itself (the copy is a call).
-#[inline(always)]
-fn with_own_rays<S: Scalar>(rays: &mut RowRays<S>, f: impl FnOnce(&mut RowRays<S>)) {
-    if cfg!(microray_small) {
-        f(rays);
-    } else {
-        let mut own = rays.clone();
-        f(&mut own);
-        *rays = own;
     }
 }
 

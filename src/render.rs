@@ -592,47 +592,116 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         let plane = shading.as_ref().and_then(RowShading::first_plane);
         let boxes = self.boxes().zip(plane);
         let width = row.len();
-        let mut from = 0;
-        while from < width {
-            // Built for size, there are neither spans nor boxes: one segment, no search.
-            let to = if cfg!(microray_small) {
+        // Built for size, there are neither spans nor boxes: one segment, no search.
+        let cut = |from| {
+            if cfg!(microray_small) {
                 width
             } else {
                 next_cut(spans, boxes, camera_y, left, width, from)
-            };
+            }
+        };
+        let to = cut(0);
+        if to >= width {
+            // One segment (most rows): the row's own rays, moved in.
+            self.set_segment(
+                tests,
+                spans,
+                boxes,
+                shading.as_mut(),
+                camera_y,
+                left,
+                0,
+                width,
+            );
+            self.shade_part(shader, tests, shading.as_ref(), rays, row);
+            return;
+        }
+        // Several: the row's rays are not used again (each segment makes its own).
+        self.shade_cut_row(
+            shader,
+            camera_y,
+            left,
+            tests,
+            spans,
+            boxes,
+            shading.as_mut(),
+            to,
+            row,
+        );
+    }
+
+    /// [`shade_segments`](Self::shade_segments) for a row cut in several, the first ending
+    /// at `to`: each segment's rays by value, made afresh (through one `&mut` for all, the
+    /// loops could not keep them in registers, and soft-float f32 spec0 cost the Cortex-M0
+    /// 16 % more). Out of line: in line, its locals sat in the caller's frame under every
+    /// row's calls (the micro:bit's stack for spec0, 96 B).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(never)]
+    fn shade_cut_row<C: From<Rgb888> + Copy>(
+        &self,
+        shader: &Shader<'_, S>,
+        camera_y: u16,
+        left: u16,
+        tests: &mut [RowEntry<S>],
+        spans: &[(u8, RowSpan)],
+        boxes: Option<(&ShadowBoxes, usize)>,
+        mut shading: Option<&mut RowShading<'_, S>>,
+        mut to: usize,
+        row: &mut [C],
+    ) {
+        let width = row.len();
+        let mut from = 0;
+        while from < width {
             let Some(part) = row.get_mut(from..to) else {
                 break;
             };
-            let first = left.saturating_add(u16::try_from(from).unwrap_or(u16::MAX));
-            if let (Some((boxes, _)), Some(shading)) = (boxes, shading.as_mut()) {
-                let last = left.saturating_add(u16::try_from(to - 1).unwrap_or(u16::MAX));
-                shading.set_segment(boxes, camera_y, first, last);
-            }
-            for &(position, span) in spans {
-                if let Some(entry) = tests.get_mut(usize::from(position)) {
-                    entry.test = if span.contains(first) {
-                        RowTest::Hits
-                    } else {
-                        RowTest::Miss
-                    };
-                }
-            }
-            if !spans.is_empty()
-                && let Some(shading) = shading.as_mut()
-            {
-                shading.set_tested(tests);
-            }
-            // Each segment's rays by value, made afresh after the first: the loops keep them
-            // in registers and work out what is the same along the row once (through a
-            // pointer, soft-float f32 spec0 cost the Cortex-M0 16 % more).
-            let part_rays = if from == 0 {
-                rays.clone()
-            } else {
-                self.camera.row_rays(camera_y, first)
-            };
-            self.shade_part(shader, tests, shading.as_ref(), part_rays, part);
+            let first = self.set_segment(
+                tests,
+                spans,
+                boxes,
+                shading.as_deref_mut(),
+                camera_y,
+                left,
+                from,
+                to,
+            );
+            let rays = self.camera.row_rays(camera_y, first);
+            self.shade_part(shader, tests, shading.as_deref(), rays, part);
             from = to;
+            to = next_cut(spans, boxes, camera_y, left, width, from);
         }
+    }
+
+    /// Readies the row's tests and shading for the segment of columns `from..to` (counted
+    /// from `left`): the entries with `spans` tested only where they can be met, and the
+    /// shadow boxes that cover it; its first image column.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn set_segment(
+        &self,
+        tests: &mut [RowEntry<S>],
+        spans: &[(u8, RowSpan)],
+        boxes: Option<(&ShadowBoxes, usize)>,
+        shading: Option<&mut RowShading<'_, S>>,
+        camera_y: u16,
+        left: u16,
+        from: usize,
+        to: usize,
+    ) -> u16 {
+        let first = left.saturating_add(u16::try_from(from).unwrap_or(u16::MAX));
+        let Some(shading) = shading else {
+            set_spanned(tests, spans, first);
+            return first;
+        };
+        if let Some((boxes, _)) = boxes {
+            let last = left.saturating_add(u16::try_from(to - 1).unwrap_or(u16::MAX));
+            shading.set_segment(boxes, camera_y, first, last);
+        }
+        if !spans.is_empty() {
+            set_spanned(tests, spans, first);
+            shading.set_tested(tests);
+        }
+        first
     }
 
     /// Shades the rays `rays` of (part of) a row whose tests are prepared into `row` (as
@@ -823,6 +892,20 @@ fn bytes<S: Scalar>(c: Vec3<S>) -> Rgb888 {
 
 /// The most entries of a row cut into segments by their column spans (more: shaded whole).
 const MAX_SPANNED: usize = 4;
+
+/// Turns the entries with column `spans` to tests where column `first` (and the segment it
+/// starts) lies in their span, to misses where it does not.
+fn set_spanned<S: Scalar>(tests: &mut [RowEntry<S>], spans: &[(u8, RowSpan)], first: u16) {
+    for &(position, span) in spans {
+        if let Some(entry) = tests.get_mut(usize::from(position)) {
+            entry.test = if span.contains(first) {
+                RowTest::Hits
+            } else {
+                RowTest::Miss
+            };
+        }
+    }
+}
 
 /// Where the segment of a row `width` pixels long (its first at column `left`, which the
 /// spans and boxes count from) that starts at `from` ends: at the first column after `from`

@@ -287,7 +287,7 @@ fn cross(a: [f64; 2], b: [f64; 2]) -> f64 {
 }
 
 fn length(a: [f64; 2]) -> f64 {
-    crate::scalar::sqrt_f64(a[0] * a[0] + a[1] * a[1])
+    crate::scalar::sqrt_f64_rough(a[0] * a[0] + a[1] * a[1])
 }
 
 /// `a` turned by the angle whose cosine and sine are given (anticlockwise for `sin > 0`).
@@ -393,7 +393,7 @@ impl View {
         }
         // The tangents are c turned by the half angle a, sin a = r / distance, then widened.
         let sin = r / distance;
-        let (sin, cos) = widened(sin, crate::scalar::sqrt_f64(1.0 - sin * sin));
+        let (sin, cos) = widened(sin, crate::scalar::sqrt_f64_rough(1.0 - sin * sin));
         if !(cos > 0.0) {
             return Heights::ALL;
         }
@@ -441,7 +441,10 @@ impl View {
         if !spans_all || cross(low, high) < 0.0 {
             return Heights::ALL;
         }
-        let (sin, cos) = widened(blur_sin, crate::scalar::sqrt_f64(1.0 - blur_sin * blur_sin));
+        let (sin, cos) = widened(
+            blur_sin,
+            crate::scalar::sqrt_f64_rough(1.0 - blur_sin * blur_sin),
+        );
         self.arc(turn(low, cos, -sin), turn(high, cos, sin))
     }
 

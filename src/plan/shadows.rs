@@ -134,6 +134,9 @@ impl ShadowBoxes {
         let rows = View::of(camera);
         let columns = View::columns_of(camera);
         let mut entries = Vec::new();
+        // One array of points for every call below, filled in place: returned by value
+        // through the calls, its copies were the frame's largest part (RAM on a Cortex-M0).
+        let mut points = [Vec3::ZERO; 8];
         for (number, light) in lights.iter().enumerate() {
             let number = u8::try_from(number).ok()?;
             for &receiver in &receivers {
@@ -141,7 +144,8 @@ impl ShadowBoxes {
                 // others are not worth their outlines (soft float's `f64`).
                 let bounded = occluders.iter().all(|&index| {
                     objects.get(usize::from(index)).is_some_and(|object| {
-                        shadow_points::<S>(light, object, receiver.into(), objects, false).is_some()
+                        shadow_points(light, object, receiver.into(), objects, false, &mut points)
+                            .is_some()
                     })
                 });
                 if !bounded || entries.len() + occluders.len() > BOXES {
@@ -149,7 +153,7 @@ impl ShadowBoxes {
                 }
                 for &index in &occluders {
                     let object = objects.get(usize::from(index))?;
-                    let points = shadow_points::<S>(light, object, receiver.into(), objects, true)?;
+                    shadow_points(light, object, receiver.into(), objects, true, &mut points)?;
                     let mut screen = ScreenBox {
                         rows: rows.span(rows.outline(&points, S::MIN_NORMAL)),
                         columns: columns.span(columns.outline(&points, S::MIN_NORMAL)),
@@ -216,25 +220,26 @@ impl ShadowBoxes {
     }
 }
 
-/// The projections from `light` onto the plane of `receiver` of the vertices of a
-/// polytope holding `object`, widened (computed only when `project`); `None` where the
-/// shadow is not bounded that way (see the module's docs).
+/// Into `points`, the projections from `light` onto the plane of `receiver` of the
+/// vertices of a polytope holding `object`, widened (computed only when `project`); `None`
+/// where the shadow is not bounded that way (see the module's docs).
 fn shadow_points<S: Scalar>(
     light: &Light<S>,
     object: &Object<S>,
     receiver: u16,
     objects: &[Object<S>],
     project: bool,
-) -> Option<[Vec3<f64>; 8]> {
+    points: &mut [Vec3<f64>; 8],
+) -> Option<()> {
     let l = light.location.to_f64();
-    let mut points = widened_vertices(object, l, S::MIN_NORMAL)?;
+    widened_vertices(object, l, S::MIN_NORMAL, points)?;
     let plane = objects.get(usize::from(receiver))?.infinite_plane()?;
     let n = plane.unit_normal.to_f64();
     let offset = plane.n_dot_point.to_f64();
     let above = n.dot(l) - offset;
     let side = if above > 0.0 { 1.0 } else { -1.0 };
     let height = libm::fabs(above);
-    for v in &mut points {
+    for v in points.iter_mut() {
         let d = side * (n.dot(*v) - offset);
         if !(d < height * (1.0 - NEARER)) {
             return None;
@@ -243,7 +248,7 @@ fn shadow_points<S: Scalar>(
             *v = l + (*v - l) * (height / (height - d));
         }
     }
-    Some(points)
+    Some(())
 }
 
 /// Whether `object` is of a kind [`widened_vertices`] holds in a polytope.
@@ -255,14 +260,15 @@ fn bounded<S: Scalar>(object: &Object<S>) -> bool {
     }
 }
 
-/// The vertices of a polytope holding `object` widened by the module's margins (seen from
-/// a light at `l`): a box about a ball, a slab about a panel; `None` for other kinds and for
-/// a panel nearly in line with the light.
+/// Into `vertices`, the vertices of a polytope holding `object` widened by the module's
+/// margins (seen from a light at `l`): a box about a ball, a slab about a panel; `None`
+/// for other kinds and for a panel nearly in line with the light.
 fn widened_vertices<S: Scalar>(
     object: &Object<S>,
     l: Vec3<f64>,
     resolution: f64,
-) -> Option<[Vec3<f64>; 8]> {
+    vertices: &mut [Vec3<f64>; 8],
+) -> Option<()> {
     let margin = |points: &[Vec3<f64>]| {
         let reach = points
             .iter()
@@ -273,27 +279,18 @@ fn widened_vertices<S: Scalar>(
     let (center, radius) = match object.shape() {
         Shape::Sphere(s) => (s.center.to_f64(), s.radius.to_f64()),
         Shape::RevSurf(s) if cfg!(feature = "revsurf") => (s.center.to_f64(), s.bound.to_f64()),
-        Shape::FPlane(rect) => return slab(rect, l, &margin),
-        Shape::TexPlane(textured) => return slab(&textured.rect, l, &margin),
+        Shape::FPlane(rect) => return slab(rect, l, &margin, vertices),
+        Shape::TexPlane(textured) => return slab(&textured.rect, l, &margin, vertices),
         _ => return None,
     };
     let reach = Vec3::new(radius, radius, radius);
     let m = margin(&[center - reach, center + reach]);
     let r = radius + m;
-    let signs = [-1.0, 1.0];
-    let mut vertices = [center; 8];
-    let mut i = 0;
-    for sx in signs {
-        for sy in signs {
-            for sz in signs {
-                if let Some(v) = vertices.get_mut(i) {
-                    *v = center + Vec3::new(sx * r, sy * r, sz * r);
-                }
-                i += 1;
-            }
-        }
+    for (i, v) in vertices.iter_mut().enumerate() {
+        let sign = |bit: usize| if i & bit == 0 { -r } else { r };
+        *v = center + Vec3::new(sign(4), sign(2), sign(1));
     }
-    Some(vertices)
+    Some(())
 }
 
 /// `|v|_1`, at least `|v|` (without a square root: soft float's are slow).
@@ -301,12 +298,14 @@ fn norm_1(v: Vec3<f64>) -> f64 {
     libm::fabs(v.x) + libm::fabs(v.y) + libm::fabs(v.z)
 }
 
-/// A panel's corners moved out along its sides and off its plane both ways by the margin.
+/// Into `vertices`, a panel's corners moved out along its sides and off its plane both
+/// ways by the margin.
 fn slab<S: Scalar>(
     rect: &crate::object::Rect<S>,
     l: Vec3<f64>,
     margin: &dyn Fn(&[Vec3<f64>]) -> f64,
-) -> Option<[Vec3<f64>; 8]> {
+    vertices: &mut [Vec3<f64>; 8],
+) -> Option<()> {
     let [p, across, up] = rect.corner_and_sides();
     let corners = [p, p + across, p + across + up, p + up];
     let n = rect.plane.unit_normal.to_f64();
@@ -322,13 +321,17 @@ fn slab<S: Scalar>(
         across.unit_f64().unwrap_or(Vec3::ZERO) * m,
         up.unit_f64().unwrap_or(Vec3::ZERO) * m,
     );
-    let out = [-a - b, a - b, a + b, b - a];
-    let mut vertices = [p; 8];
     for (i, v) in vertices.iter_mut().enumerate() {
         let corner = corners.get(i % 4).copied().unwrap_or(p);
-        let aside = out.get(i % 4).copied().unwrap_or(Vec3::ZERO);
+        // Out of the panel at each corner: `-a - b`, `a - b`, `a + b`, `b - a`.
+        let aside = match i % 4 {
+            0 => -a - b,
+            1 => a - b,
+            2 => a + b,
+            _ => b - a,
+        };
         let off = if i < 4 { n * m } else { n * -m };
         *v = corner + aside + off;
     }
-    Some(vertices)
+    Some(())
 }

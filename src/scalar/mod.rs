@@ -330,6 +330,46 @@ pub(crate) fn sqrt_f64(x: f64) -> f64 {
     }
 }
 
+/// The square root of an `f64` to within `2^-23` of it (relative), for the render plan,
+/// whose angles carry margins of `2e-3`: exact where the target has an `f64` square root
+/// instruction, else [`sqrt_by_halves`]. Once per object and frame, the correctly rounded
+/// [`sqrt_by_digits`] cost many_spheres 1 % of its instructions on the Cortex-M4F. Built
+/// for size, `sqrt_by_digits` still (on the Cortex-M0 `sqrt_by_halves` brings in `f32`'s
+/// software root and conversions: 2 KB).
+#[inline]
+pub(crate) fn sqrt_f64_rough(x: f64) -> f64 {
+    if HARD_DOUBLE {
+        libm::sqrt(x)
+    } else if cfg!(microray_small) {
+        sqrt_by_digits(x)
+    } else {
+        sqrt_by_halves(x)
+    }
+}
+
+/// `sqrt(x)` as `sqrt(m) 2^k` with `x = m 2^(2k)`, `1 <= m < 4`, and `sqrt(m)` taken in
+/// `f32` (the float unit's, where there is one): two roundings of `2^-24`, so within
+/// `2^-23` of the root; exact for zeros, infinities, NaN and negatives (as
+/// [`sqrt_by_digits`], which also takes the rare subnormals).
+#[inline(never)]
+pub(crate) fn sqrt_by_halves(x: f64) -> f64 {
+    let bits = x.to_bits();
+    let field = (bits >> 52) as i32;
+    // Positive normal numbers only (the sign bit makes `field` 2048 or more).
+    if !(1..2047).contains(&field) {
+        return sqrt_by_digits(x);
+    }
+    let exponent = field - 1023;
+    let half = exponent >> 1;
+    // `m`: the mantissa with exponent 0 or 1 (what is left after `2^(2 half)`).
+    let m = f64::from_bits(
+        (bits & 0x000f_ffff_ffff_ffff) | (((1023 + exponent - 2 * half) as u64) << 52),
+    );
+    // `half` is within -512..=511, a normal power of two.
+    let scale = f64::from_bits(((1023 + half) as u64) << 52);
+    f64::from(sqrtf(m as f32)) * scale
+}
+
 /// The correctly rounded square root, two bits of the radicand at a time in integers: the
 /// mantissa `m` (made even-exponent, `2^52 <= m < 2^54`) times `2^52` has a 53-bit root `r`
 /// and remainder `rem`; the root is rounded up when `rem > r` (the exact root is then at
@@ -1174,6 +1214,46 @@ mod tests {
             check(x);
         }
         assert_eq!(sqrt_by_digits(-0.0).to_bits(), (-0.0f64).to_bits());
+    }
+
+    #[test]
+    fn sqrt_by_halves_is_within_two_to_the_minus_23() {
+        let check = |x: f64| {
+            let (rough, exact) = (sqrt_by_halves(x), libm::sqrt(x));
+            if exact.is_nan() {
+                assert!(rough.is_nan(), "{x:e}: {rough:e}");
+            } else if exact == 0.0 || exact.is_infinite() {
+                assert_eq!(rough.to_bits(), exact.to_bits(), "{x:e}");
+            } else {
+                let error = libm::fabs(rough - exact) / exact;
+                assert!(
+                    error <= 1.0 / 8_388_608.0,
+                    "{x:e}: {rough:e} {exact:e} {error:e}"
+                );
+            }
+        };
+        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+        for _ in 0..1_000_000 {
+            xorshift(&mut seed);
+            check(f64::from_bits(seed));
+            check(f64::from_bits(seed >> 12));
+        }
+        for x in [
+            0.0,
+            -0.0,
+            1.0,
+            2.0,
+            3.999_999,
+            4.0,
+            f64::MIN_POSITIVE,
+            5e-324,
+            f64::MAX,
+        ] {
+            check(x);
+        }
+        for x in [f64::INFINITY, -1.0, f64::NAN] {
+            check(x);
+        }
     }
 
     fn shortest<S: Scalar>(v: S) -> std::string::String {

@@ -126,7 +126,9 @@ impl<S: Scalar> RowShading<'_, S> {
 
     /// Sets which lights' shadow rays the pixels of row `y`, columns `first..=last`, test
     /// on the row's plane: those whose shadow boxes of objects that depend on `x` hold them
-    /// (a row made with `by_boxes`; the others test every light that needs it).
+    /// (a row made with `by_boxes`; the others test every light that needs it). Out of
+    /// line: once a segment, and in line it deepened the micro:bit's stack.
+    #[inline(never)]
     pub(crate) fn set_segment(&mut self, boxes: &ShadowBoxes, y: u16, first: u16, last: u16) {
         let Some(level) = self.levels.first_mut() else {
             return;

@@ -694,7 +694,7 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
             return first;
         };
         if let Some((boxes, _)) = boxes {
-            let last = left.saturating_add(u16::try_from(to - 1).unwrap_or(u16::MAX));
+            let last = left.saturating_add(u16::try_from(to.saturating_sub(1)).unwrap_or(u16::MAX));
             shading.set_segment(boxes, camera_y, first, last);
         }
         if !spans.is_empty() {

@@ -134,8 +134,8 @@ impl<const OBJECTS: usize> Plan<OBJECTS> {
             spans: Vec::new(),
             columns: Vec::new(),
         };
-        let view = View::of(camera);
-        let across = View::columns_of(camera);
+        let view = View::new(camera, false);
+        let across = View::new(camera, true);
         for (index, object) in objects.iter().enumerate() {
             if !wholly_in_front(object, z_limit.to_f64(), S::MIN_NORMAL) {
                 let rows = view.rows_of(object, S::MIN_NORMAL);
@@ -176,6 +176,7 @@ impl<const OBJECTS: usize> Plan<OBJECTS> {
         {
             self.kept.pop();
             self.spans.truncate(self.kept.len());
+            self.columns.truncate(self.kept.len());
         }
     }
 
@@ -319,27 +320,20 @@ struct View {
 type Heights = Interval;
 
 impl View {
-    fn of<S: Scalar>(camera: &Camera<S>) -> Self {
+    /// The camera seen along x (its rows) or, with `columns`, along y (its columns: all
+    /// rays of an image column lie in one plane through the eye that holds the y axis).
+    fn new<S: Scalar>(camera: &Camera<S>, columns: bool) -> Self {
         let eye = camera.viewpoint().to_f64();
-        let rows = f64::from(camera.height().saturating_sub(1).max(1));
+        let (eye, world, count) = if columns {
+            ([eye.x, eye.z], camera.world()[0], camera.width())
+        } else {
+            ([eye.y, eye.z], camera.world()[1], camera.height())
+        };
         Self {
-            columns: false,
-            eye: [eye.y, eye.z],
-            row_height: camera.world()[1].to_f64() / rows,
-            height: camera.height(),
-        }
-    }
-
-    /// The same camera seen along the y axis: its columns, as [`of`](Self::of) sees rows
-    /// (all rays of an image column lie in one plane through the eye that holds the y axis).
-    fn columns_of<S: Scalar>(camera: &Camera<S>) -> Self {
-        let eye = camera.viewpoint().to_f64();
-        let columns = f64::from(camera.width().saturating_sub(1).max(1));
-        Self {
-            columns: true,
-            eye: [eye.x, eye.z],
-            row_height: camera.world()[0].to_f64() / columns,
-            height: camera.width(),
+            columns,
+            eye,
+            row_height: world.to_f64() / f64::from(count.saturating_sub(1).max(1)),
+            height: count,
         }
     }
 

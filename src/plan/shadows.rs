@@ -131,8 +131,8 @@ impl ShadowBoxes {
         if occluders.is_empty() {
             return None;
         }
-        let rows = View::of(camera);
-        let columns = View::columns_of(camera);
+        let rows = View::new(camera, false);
+        let columns = View::new(camera, true);
         let mut entries = Vec::new();
         // One array of points for every call below, filled in place: returned by value
         // through the calls, its copies were the frame's largest part (RAM on a Cortex-M0).

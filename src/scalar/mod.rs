@@ -645,20 +645,16 @@ const HARD_FLOAT: bool = cfg!(any(
 const HARD_DOUBLE: bool = cfg!(any(target_arch = "x86_64", target_arch = "aarch64"));
 
 /// `floor(v * 255)` clamped to 0..=255 (NaN 0), exactly as the `f64` product gives it, with
-/// the float unit: `v 2^32` is exact (a power of two) and, for `v` in `[2^-9, 1)`, a whole
-/// number that the saturating conversion keeps; `(v 2^32) 255 / 2^32` truncated is then
-/// `floor(v 255)`. Below `2^-9` both are 0.
+/// the float unit and no branch: `x = v 2^32` is exact (a power of two) and a whole number
+/// for `v` in `[2^-9, 1)`; the conversion saturates (negative and NaN to 0, 1 and more to
+/// `2^32 - 1`). With `x = 256a + b`, `(x - a) / 2^24` exceeds `255 x / 2^32` by `b / 2^32`,
+/// less than 2^-24, which moves the floor only where `255 v` lies that close below a whole
+/// number: no `f32` does (checked over all 2^32 of them; the tests check ±40 units around
+/// every `k / 255`, which holds every such place), and `2^32 - 1` gives 255.
 #[inline]
 pub(crate) fn f32_byte_by_scaling(v: f32) -> u8 {
-    // Black first: the course's scenes are mostly dark.
-    if !(v > 0.0) {
-        return 0;
-    }
-    if v >= 1.0 {
-        return 255;
-    }
     let x = (v * 4_294_967_296.0) as u32;
-    ((u64::from(x) * 255) >> 32) as u8
+    ((x - (x >> 8)) >> 24) as u8
 }
 
 /// [`f32_byte_by_scaling`] on the bits, for targets without a float unit: `v * 255` for `v`

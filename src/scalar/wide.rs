@@ -14,6 +14,11 @@ const HALVES: bool = true;
 #[cfg(not(all(target_arch = "arm", not(target_has_atomic = "32"))))]
 const HALVES: bool = false;
 
+/// Whether the exact division's and the integer square root's first Newton steps run in
+/// 32-bit products: on ARMv6-M, unless built for size (the steps are code of their own; the
+/// 64-bit products are one routine shared with everything else).
+const STEPS_IN_WORDS: bool = HALVES && !cfg!(microray_small);
+
 /// The full product of two `u32`.
 #[inline]
 pub(crate) fn mul_u32(a: u32, b: u32) -> u64 {
@@ -212,33 +217,61 @@ const RECIPROCALS: [u32; 128] = {
     table
 };
 
-/// About `2^63 / n` for `n` in `[2^31, 2^32)`, within 2^-28 relative: a table, then two
-/// Newton steps `y (2 - n y)`.
+/// The table's first guess for `n` in `[2^31, 2^32)`.
 #[inline]
-fn reciprocal_estimate(n: u32) -> u32 {
-    let mut y = RECIPROCALS
+fn first_reciprocal(n: u32) -> u32 {
+    RECIPROCALS
         .get(((n >> 24) & 0x7f) as usize)
         .copied()
-        .unwrap_or(u32::MAX);
-    for _ in 0..2 {
-        // e = 2^64 - n y, about 2^63; y (e / 2^63) from its top 32 bits.
-        let e = mul_u32(n, y).wrapping_neg();
-        let next = mul_u32(y, (e >> 32) as u32) >> 31;
-        y = u32::try_from(next).unwrap_or(u32::MAX);
-    }
-    y
+        .unwrap_or(u32::MAX)
+}
+
+/// One Newton step `y (2 - n y / 2^63)` towards `2^63 / n` in 64-bit products.
+#[inline]
+fn newton_reciprocal(n: u32, y: u32) -> u32 {
+    // e = 2^64 - n y, about 2^63; y (e / 2^63) from its top 32 bits.
+    let e = mul_u32(n, y).wrapping_neg();
+    u32::try_from(mul_u32(y, (e >> 32) as u32) >> 31).unwrap_or(u32::MAX)
+}
+
+/// About `2^63 / n` for `n` in `[2^31, 2^32)`, within 2^-22 relative (every `n` checked),
+/// from 32-bit products only (one multiply each on ARMv6-M, against four for a 64-bit
+/// one): the table's guess `y`, its top 16 bits (error `e` up to 2^-8), times
+/// `1 + e + e^2`, which leaves `e^3`; `e = 1 - n y / 2^63` is exact to 2^-23 from two
+/// 16x16 products.
+// Out of line: in line, it grew the frames of the division's callers (stack).
+#[inline(never)]
+fn reciprocal_in_words(n: u32) -> u32 {
+    let b = first_reciprocal(n) >> 16;
+    // n b = high 2^16 + low, about 2^47; its top 24 bits (high is about 2^31: no carry).
+    let (high, low) = ((n >> 16) * b, (n & 0xffff) * b);
+    let top = high.wrapping_add(low >> 16) >> 8;
+    // e 2^23, |e| below 2^-7.9: below 2^15.1 in magnitude.
+    let e = (1i32 << 23) - top as i32;
+    // y e = b e / 2^7 and y e^2 = b e^2 / 2^30, with b halved to keep b e in 31 bits.
+    let half_b_e = (b >> 1) as i32 * e;
+    let correction = (half_b_e >> 6) + (((half_b_e >> 15) * e) >> 14);
+    u32::try_from(i64::from(b << 16) + i64::from(correction)).unwrap_or(u32::MAX)
+}
+
+/// About `2^63 / n` for `n` in `[2^31, 2^32)`, within 2^-28 relative: the table, then two
+/// Newton steps; on ARMv6-M (built for speed) the first in 32-bit products ([`reciprocal_in_words`]), where a
+/// 64-bit product costs four multiplies (the divisions it serves are exact either way).
+#[inline]
+fn reciprocal_estimate(n: u32) -> u32 {
+    let y = if STEPS_IN_WORDS {
+        reciprocal_in_words(n)
+    } else {
+        newton_reciprocal(n, first_reciprocal(n))
+    };
+    newton_reciprocal(n, y)
 }
 
 /// About `2^63 / n` for `n` in `[2^31, 2^32)` to 2^-16 relative: the table and one Newton
 /// step, for wide numbers (the shading needs about 16 bits, not the exact division's 31).
 #[inline]
 fn reciprocal_rough(n: u32) -> u32 {
-    let y = RECIPROCALS
-        .get(((n >> 24) & 0x7f) as usize)
-        .copied()
-        .unwrap_or(u32::MAX);
-    let e = mul_u32(n, y).wrapping_neg();
-    u32::try_from(mul_u32(y, (e >> 32) as u32) >> 31).unwrap_or(u32::MAX)
+    newton_reciprocal(n, first_reciprocal(n))
 }
 
 /// A divisor prepared for division: its magnitude, normalised, and its reciprocal.
@@ -513,10 +546,32 @@ const RECIPROCAL_ROOTS: [u16; 192] = {
 };
 
 /// `floor(sqrt(n))`, exact: a table and two Newton steps of the reciprocal square root
-/// (multiplies only), then corrected with exact squares. Used on every target, so that the
-/// same code is tested on the host.
-#[inline]
+/// (multiplies only; on ARMv6-M, built for speed, the first in 32-bit products), then corrected with exact
+/// squares. Used on every target, so that the same code is tested on the host. Out of line on
+/// ARMv6-M built for speed: in line there, its registers grew the row loops' frames (stack).
+#[cfg_attr(
+    all(
+        target_arch = "arm",
+        not(target_has_atomic = "32"),
+        not(microray_small)
+    ),
+    inline(never)
+)]
+#[cfg_attr(
+    not(all(
+        target_arch = "arm",
+        not(target_has_atomic = "32"),
+        not(microray_small)
+    )),
+    inline
+)]
 pub(crate) fn isqrt(n: u64) -> u32 {
+    isqrt_by(n, STEPS_IN_WORDS)
+}
+
+/// [`isqrt`], its first step in 32-bit products or not (the result is the same).
+#[inline(always)]
+fn isqrt_by(n: u64, in_words: bool) -> u32 {
     if n == 0 {
         return 0;
     }
@@ -524,26 +579,69 @@ pub(crate) fn isqrt(n: u64) -> u32 {
     let k = leading_zeros_u64(n) / 2;
     let m = n << (2 * k);
     let h = (m >> 32) as u32;
-    let mut y = RECIPROCAL_ROOTS
+    let top = RECIPROCAL_ROOTS
         .get(((h >> 24) as usize).saturating_sub(64))
-        .map_or(1 << 30, |&top| u32::from(top) << 15);
-    for _ in 0..2 {
-        // y (3 - x y^2) / 2 in Q2.30.
-        let square = u32::try_from(mul_u32(y, y) >> 30).unwrap_or(u32::MAX);
-        let xy2 = (mul_u32(h, square) >> 32) as u32;
-        let three_minus = (3u32 << 30).saturating_sub(xy2);
-        y = u32::try_from(mul_u32(y, three_minus) >> 31).unwrap_or(u32::MAX);
-    }
+        .map_or(1 << 15, |&top| u32::from(top));
+    let y = if in_words {
+        root_step_in_words(h, top)
+    } else {
+        root_step(h, top << 15)
+    };
+    let y = root_step(h, y);
     // sqrt(x) 2^32 = x y 2^32, then undo the normalisation.
     let root = u32::try_from(mul_u32(h, y) >> 30).unwrap_or(u32::MAX);
     let mut s = root >> k;
-    while s > 0 && mul_u32(s, s) > n {
+    // Built for size, each check squares (the 64-bit product is a routine shared with
+    // everything else; the steps below are code of their own).
+    if cfg!(microray_small) {
+        while s > 0 && mul_u32(s, s) > n {
+            s -= 1;
+        }
+        while s < u32::MAX && mul_u32(s + 1, s + 1) <= n {
+            s += 1;
+        }
+        return s;
+    }
+    // One exact square, then steps by its differences: (s - 1)^2 = s^2 - (2s - 1) and
+    // (s + 1)^2 = s^2 + 2s + 1 (a product less than squaring in each check).
+    let mut square = mul_u32(s, s);
+    // Above n: s is not 0 (0^2 is not above n).
+    while square > n {
+        square -= (u64::from(s) << 1) - 1;
         s -= 1;
     }
-    while s < u32::MAX && mul_u32(s + 1, s + 1) <= n {
+    // s^2 <= n from here on; (s + 1)^2 <= n while n - s^2 >= 2s + 1.
+    while s < u32::MAX && n - square > u64::from(s) << 1 {
+        square += (u64::from(s) << 1) + 1;
         s += 1;
     }
     s
+}
+
+/// One Newton step of `y ~ 1 / sqrt(x)`, `x = h / 2^32`, `y` in Q2.30: `y (3 - x y^2) / 2`.
+#[inline(always)]
+fn root_step(h: u32, y: u32) -> u32 {
+    let square = u32::try_from(mul_u32(y, y) >> 30).unwrap_or(u32::MAX);
+    let xy2 = (mul_u32(h, square) >> 32) as u32;
+    let three_minus = (3u32 << 30).saturating_sub(xy2);
+    u32::try_from(mul_u32(y, three_minus) >> 31).unwrap_or(u32::MAX)
+}
+
+/// The first step from the table's `top` (`y = top / 2^15`) in 32-bit products: `y` to 8
+/// bits, `t = y 2^7` rounded, `e = 1 - x t^2 / 2^14` (to 2^-23 from two 16x16 products, |e|
+/// below 2^-6), then `t (1 + e / 2 + 3 e^2 / 8)`, which leaves `5 e^3 / 16`: within 2^-21
+/// (every `h` checked), which the next step squares. In Q2.30.
+#[inline(never)]
+fn root_step_in_words(h: u32, top: u32) -> u32 {
+    let t = (top + 128) >> 8;
+    let t2 = t * t;
+    // h t^2 = high 2^16 + low, about 2^46; e 2^23 from its top bits (high about 2^30).
+    let (high, low) = ((h >> 16) * t2, (h & 0xffff) * t2);
+    let e = (1i32 << 23) - (high.wrapping_add(low >> 16) >> 7) as i32;
+    // t e 2^23 is below 2^25; y e / 2 = t e / 2 in Q2.30, y 3e^2/8 = 3 t e^2 / 2^26.
+    let te = t as i32 * e;
+    let correction = (te >> 1) + ((3 * (te >> 12) * e) >> 14);
+    u32::try_from(i64::from(t << 23) + i64::from(correction)).unwrap_or(u32::MAX)
 }
 
 #[cfg(test)]
@@ -655,6 +753,23 @@ mod tests {
         }
 
         #[test]
+        fn reciprocals_in_words_within_2_to_the_minus_22(n in (1u32 << 31)..) {
+            let exact = (1u128 << 63) as f64 / f64::from(n);
+            let got = f64::from(reciprocal_in_words(n));
+            prop_assert!((got - exact).abs() <= exact * 2f64.powi(-22), "{} vs {}", got, exact);
+        }
+
+        #[test]
+        fn estimates_within_2_to_the_minus_28(n in (1u32 << 31)..) {
+            // Both ways: the one the target uses and the other.
+            let exact = (1u128 << 63) as f64 / f64::from(n);
+            for y in [reciprocal_in_words(n), newton_reciprocal(n, first_reciprocal(n))] {
+                let got = f64::from(newton_reciprocal(n, y));
+                prop_assert!((got - exact).abs() <= exact * 2f64.powi(-28), "{} vs {}", got, exact);
+            }
+        }
+
+        #[test]
         fn three_scales_equal_one_at_a_time(m: u32, e in -80i32..8, b: [i32; 3]) {
             let w = Wide { mantissa: m | 1 << 31, exponent: e };
             prop_assert_eq!(w.scale_bits3(b), b.map(|b| w.scale_bits(b)));
@@ -671,6 +786,28 @@ mod tests {
         #[test]
         fn square_roots_of_small_numbers_are_exact(n in 0u64..(1 << 40)) {
             prop_assert_eq!(isqrt(n), n.isqrt() as u32);
+        }
+
+        #[test]
+        fn square_roots_next_to_squares_are_exact(s: u32, offset in -2i64..=2) {
+            // Where the corrections step across a square; both first steps.
+            let n = (u64::from(s) * u64::from(s)).saturating_add_signed(offset);
+            prop_assert_eq!(isqrt_by(n, true), n.isqrt() as u32);
+            prop_assert_eq!(isqrt_by(n, false), n.isqrt() as u32);
+        }
+
+        #[test]
+        fn square_roots_by_words_are_exact(n: u64, small in 0u64..(1 << 40)) {
+            prop_assert_eq!(isqrt_by(n, true), n.isqrt() as u32);
+            prop_assert_eq!(isqrt_by(small, true), small.isqrt() as u32);
+        }
+
+        #[test]
+        fn first_root_steps_in_words_within_2_to_the_minus_21(h in (1u32 << 30)..) {
+            let top = RECIPROCAL_ROOTS.get(((h >> 24) as usize) - 64).copied().map(u32::from).unwrap();
+            let exact = (1u64 << 30) as f64 / (f64::from(h) / 4_294_967_296.0).sqrt();
+            let got = f64::from(root_step_in_words(h, top));
+            prop_assert!((got - exact).abs() <= exact * 2f64.powi(-21), "{} vs {}", got, exact);
         }
     }
 }

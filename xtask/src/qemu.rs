@@ -162,6 +162,11 @@ pub fn run(args: &[String]) -> Result<(), String> {
             "--antialias" => options.antialias = true,
             "--minimal" => options.minimal = true,
             "--opt-levels" => return opt_levels(),
+            // The RAM table alone (spec0 at 320x240, both machines), printed.
+            "--ram" => {
+                println!("{}", ram_by_part(&root()?, &[])?);
+                return Ok(());
+            }
             "--build" => {
                 options.build = Some(rest.next().ok_or("--build takes MACHINE-NUMBER")?.clone())
             }

@@ -7,6 +7,9 @@
 #[allow(dead_code)]
 #[path = "src/basic_scene.rs"]
 mod basic_scene;
+// What the Pico's build script shares.
+#[path = "scene_files.rs"]
+mod scene_files;
 
 use microray::capacity::Capacities;
 use std::env;
@@ -116,7 +119,7 @@ fn main() {
             continue;
         }
         let text = fs::read_to_string(&path).unwrap();
-        let textures = texture_files(&text, path.parent().unwrap());
+        let textures = scene_files::texture_files(&text, path.parent().unwrap());
         let bytes: usize = textures
             .iter()
             .map(|(_, p)| fs::metadata(p).map(|m| m.len() as usize).unwrap_or(0))
@@ -210,22 +213,4 @@ const fn in_source(objects: usize, materials: usize, lights: usize, textures: us
         textures,
         max_width: 0,
     }
-}
-
-/// The `filename` values of a scene and the files they name, and the `texname` values that
-/// name a file (`texname FILE`, read as an image when no texture block has that name).
-fn texture_files(text: &str, dir: &Path) -> Vec<(String, PathBuf)> {
-    let mut words = text.split_whitespace();
-    let mut found: Vec<(String, PathBuf)> = Vec::new();
-    while let Some(word) = words.next() {
-        let Some(name) = words.clone().next() else {
-            break;
-        };
-        let file = dir.join(name);
-        let named = word == "filename" || (word == "texname" && file.is_file());
-        if named && !found.iter().any(|(written, _)| written == name) {
-            found.push((name.to_string(), file.canonicalize().unwrap()));
-        }
-    }
-    found
 }

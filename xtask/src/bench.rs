@@ -129,6 +129,8 @@ pub fn run(args: &[String]) -> Result<(), String> {
     } else {
         let all = qemu::measure(&root, 160, 120, &Options::default())?;
         all.check()?;
+        // The Pico in rp2040js, every scene of its table (docs/pico.md).
+        crate::pico::run(&[])?;
         Some(all)
     };
 

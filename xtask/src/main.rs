@@ -18,6 +18,7 @@
 mod bench;
 mod host_profile;
 mod pgo;
+mod pico;
 mod profile;
 mod qemu;
 
@@ -31,11 +32,13 @@ fn main() -> ExitCode {
         Some("host-bench") => bench::host_run(&args[1..]),
         Some("host-profile") => host_profile::run(&args[1..]),
         Some("pgo") => pgo::run(&args[1..]),
+        Some("pico") => pico::run(&args[1..]),
         _ => Err(
             "usage: cargo xtask qemu [--size WIDTHxHEIGHT] [--only SCENE,...] \
                   [--build PREFIX] [--profile] [--compare-plan] | cargo xtask bench [--quick] | cargo xtask host-bench [--runs N] \
                   | cargo xtask host-profile \
-                  [--binary PATH] [--out FILE] [--title TEXT] [--runs N] | cargo xtask pgo"
+                  [--binary PATH] [--out FILE] [--title TEXT] [--runs N] | cargo xtask pgo \
+                  | cargo xtask pico [--only SCENE,...]"
                 .to_string(),
         ),
     };

@@ -72,7 +72,7 @@ impl Symbolizer {
     }
 
     /// The functions at `address`, innermost (inlined) first.
-    fn chain(&mut self, address: u64) -> &[String] {
+    pub(crate) fn chain(&mut self, address: u64) -> &[String] {
         if !self.cache.contains_key(&address) {
             let mut chain = Vec::new();
             if let Ok(mut frames) = self.context.find_frames(address).skip_all_loads() {

@@ -815,7 +815,7 @@ fn run_qemu(
 }
 
 /// A scene the firmware renders: a file, or one written in source.
-enum Source<'a> {
+pub(crate) enum Source<'a> {
     File(&'a Path),
     Static,
     Basic,
@@ -823,7 +823,7 @@ enum Source<'a> {
 
 /// The host's render of a scene at the firmware's size, in `S`.
 /// The host's frame of a scene at `width` x `height` in `S`, anti-aliased by `aa`.
-fn host_render<S: Scalar>(
+pub(crate) fn host_render<S: Scalar>(
     source: &Source<'_>,
     width: u16,
     height: u16,
@@ -1207,7 +1207,7 @@ fn mean_profile(
 
 /// The course's scenes of the summary: the 17 the firmware renders (the micro:bit's flash
 /// holds 15 of them: not the textured planes' images).
-const COURSE_SCENES: [&str; 17] = [
+pub(crate) const COURSE_SCENES: [&str; 17] = [
     "aademo",
     "fplane0",
     "fplane1",

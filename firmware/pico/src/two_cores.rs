@@ -1,32 +1,17 @@
 //! Both cores render (feature `two-cores`): core 1 the odd rows, each handed over in a small
-//! queue, core 0 the even rows and every write to the panel, which belongs to it. Each core
-//! has its own `Renderer` of the one scene (the plan is worked out twice, the same both
-//! times), and the rows are those `render_area` draws on one-row areas, so the panel ends
-//! with the one-core image. The library itself knows nothing of cores: this is the split
-//! `host::render_parallel` makes on a PC.
+//! queue, core 0 the even rows and every write to the panel, which belongs to it (the split
+//! is `split.rs`'s, which the host's tests run with a thread as core 1). Each core has its
+//! own `Renderer` of the one scene (the plan is worked out twice, the same both times). The
+//! library itself knows nothing of cores: this is the split `host::render_parallel` makes on
+//! a PC.
 
-use core::cell::RefCell;
-use core::convert::Infallible;
-use core::ops::ControlFlow;
-use critical_section::Mutex;
-use embedded_graphics::Pixel;
-use embedded_graphics::pixelcolor::{Rgb565, RgbColor};
-use embedded_graphics::prelude::{DrawTarget, OriginDimensions, Point, Size};
-use embedded_graphics::primitives::Rectangle;
-use heapless::Deque;
+use embedded_graphics::pixelcolor::Rgb565;
+use embedded_graphics::prelude::DrawTarget;
 use microray::render::Renderer;
 use rp_pico::hal::multicore::Multicore;
 
-use crate::{HEIGHT, PANEL, PicoScene};
-
-const WIDTH: usize = PANEL as usize;
-
-/// A row of the image and its pixels.
-type Row = (u16, [Rgb565; WIDTH]);
-
-/// Rows core 1 has rendered and core 0 has not sent yet. The critical section is
-/// rp2040-hal's: interrupts off and a hardware spinlock, so it holds across both cores.
-static READY: Mutex<RefCell<Deque<Row, 4>>> = Mutex::new(RefCell::new(Deque::new()));
+use crate::PicoScene;
+use crate::split::{even_rows, odd_rows};
 
 /// Renders the scene into `panel` with both cores; returns when every row is on the panel.
 pub fn render<'p, D>(multicore: &'p mut Multicore<'p>, scene: &'static PicoScene, panel: &mut D)
@@ -38,90 +23,11 @@ where
         cortex_m::singleton!(: [usize; 4096] = [0; 4096]),
         cores.get_mut(1),
     ) {
-        (Some(stack), Some(core1)) => core1.spawn(stack, move || odd_rows(scene)).is_ok(),
+        (Some(stack), Some(core1)) => core1
+            .spawn(stack, move || odd_rows(&Renderer::new(scene)))
+            .is_ok(),
         _ => false,
     };
-    let renderer = Renderer::new(scene);
-    let mut row = [Rgb565::BLACK; WIDTH];
     // Without core 1, core 0 renders every row.
-    let step = if started { 2 } else { 1 };
-    let mut sent = 0;
-    for y in (0..HEIGHT).step_by(step) {
-        let _ = renderer.render_area(panel, one_row(y), &mut row, |_| ControlFlow::Continue(()));
-        sent += send_ready(panel);
-    }
-    if started {
-        while sent < HEIGHT / 2 {
-            sent += send_ready(panel);
-        }
-    }
-}
-
-/// Core 1: the odd rows, each into the queue (waiting while it is full).
-fn odd_rows(scene: &'static PicoScene) {
-    let renderer = Renderer::new(scene);
-    let mut target = RowTarget {
-        y: 0,
-        pixels: [Rgb565::BLACK; WIDTH],
-    };
-    let mut row = [Rgb565::BLACK; WIDTH];
-    for y in (1..HEIGHT).step_by(2) {
-        target.y = y;
-        let _ = renderer.render_area(&mut target, one_row(y), &mut row, |_| {
-            ControlFlow::Continue(())
-        });
-        let mut waiting = Some((y, target.pixels));
-        while let Some(ready) = waiting.take() {
-            critical_section::with(|cs| {
-                waiting = READY.borrow_ref_mut(cs).push_back(ready).err();
-            });
-        }
-    }
-}
-
-/// Sends the rows core 1 has queued to the panel; how many.
-fn send_ready<D: DrawTarget<Color = Rgb565>>(panel: &mut D) -> u16 {
-    let mut sent = 0;
-    while let Some((y, pixels)) = critical_section::with(|cs| READY.borrow_ref_mut(cs).pop_front())
-    {
-        let _ = panel.fill_contiguous(&one_row(y), pixels);
-        sent += 1;
-    }
-    sent
-}
-
-/// Row `y` of the image.
-fn one_row(y: u16) -> Rectangle {
-    Rectangle::new(Point::new(0, i32::from(y)), Size::new(u32::from(PANEL), 1))
-}
-
-/// Core 1's target: the pixels of row `y` of an image of the panel's width.
-struct RowTarget {
-    y: u16,
-    pixels: [Rgb565; WIDTH],
-}
-
-impl OriginDimensions for RowTarget {
-    fn size(&self) -> Size {
-        Size::new(u32::from(PANEL), u32::from(HEIGHT))
-    }
-}
-
-impl DrawTarget for RowTarget {
-    type Color = Rgb565;
-    type Error = Infallible;
-
-    fn draw_iter<I: IntoIterator<Item = Pixel<Rgb565>>>(
-        &mut self,
-        pixels: I,
-    ) -> Result<(), Infallible> {
-        for Pixel(point, color) in pixels {
-            let x = usize::try_from(point.x).ok();
-            let slot = x.and_then(|x| self.pixels.get_mut(x));
-            if let Some(slot) = slot.filter(|_| point.y == i32::from(self.y)) {
-                *slot = color;
-            }
-        }
-        Ok(())
-    }
+    even_rows(&Renderer::new(scene), panel, if started { 2 } else { 1 });
 }

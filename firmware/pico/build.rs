@@ -44,13 +44,19 @@ fn main() {
         )
         .unwrap();
     }
+    // The number type: Q16.16 unless the `f32` feature.
+    let number = if env::var_os("CARGO_FEATURE_F32").is_some() {
+        "f32"
+    } else {
+        "microray::scalar::I16F16"
+    };
     // At least one slot of each: the type's capacities are its arrays' lengths.
     let generated = format!(
         "/// The embedded scene file.\npub const TEXT: &str = include_str!({:?});\n\
          /// The texture files it names, by the name it gives them.\n\
          pub const TEXTURES: &[(&str, &[u8])] = &[{table}];\n\
          /// What its `Scene` holds: objects, materials, lights, textures, the widest image.\n\
-         pub type PicoScene = microray::Scene<'static, microray::scalar::I16F16, {}, {}, {}, {}, {}>;\n",
+         pub type PicoScene = microray::Scene<'static, {number}, {}, {}, {}, {}, {}>;\n",
         scene.display().to_string(),
         objects.max(1),
         materials.max(1),

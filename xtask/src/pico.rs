@@ -13,6 +13,7 @@ use crate::profile::Symbolizer;
 use crate::qemu::{self, COURSE_SCENES, Source};
 use embedded_graphics::pixelcolor::{Rgb565, Rgb888};
 use embedded_graphics::prelude::{IntoStorage, RgbColor};
+use microray::Scalar;
 use microray::scalar::I16F16;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -32,6 +33,42 @@ fn default_scenes() -> Vec<String> {
     scenes
 }
 
+/// A build of the Pico firmware: its number type and whether rp2040-hal's intrinsics (the
+/// SIO divider for integer division, the bootrom's `f32` routines) are on.
+#[derive(Clone, Copy, PartialEq)]
+struct Build {
+    f32: bool,
+    intrinsics: bool,
+}
+
+impl Build {
+    const DEFAULT: Build = Build {
+        f32: false,
+        intrinsics: true,
+    };
+
+    /// The firmware's cargo features.
+    fn features(self) -> String {
+        let mut features = Vec::new();
+        if self.f32 {
+            features.push("f32");
+        }
+        if !self.intrinsics {
+            features.push("no-intrinsics");
+        }
+        features.join(",")
+    }
+
+    fn name(self) -> String {
+        let number = if self.f32 { "f32" } else { "Q16.16" };
+        match (self.f32, self.intrinsics) {
+            (true, true) => format!("{number}, the bootrom's float routines"),
+            (false, true) => format!("{number}, the SIO divider"),
+            (_, false) => format!("{number}, no intrinsics (compiler-builtins)"),
+        }
+    }
+}
+
 /// One scene's run.
 struct Run {
     scene: String,
@@ -45,6 +82,8 @@ struct Run {
 pub fn run(args: &[String]) -> Result<(), String> {
     let mut scenes = default_scenes();
     let mut top = 0;
+    let mut build = Build::DEFAULT;
+    let mut hardware = false;
     let mut rest = args.iter();
     while let Some(arg) = rest.next() {
         match arg.as_str() {
@@ -56,6 +95,13 @@ pub fn run(args: &[String]) -> Result<(), String> {
                     .map(str::to_string)
                     .collect()
             }
+            "--number" => match rest.next().map(String::as_str) {
+                Some("f32") => build.f32 = true,
+                Some("i16f16") => build.f32 = false,
+                _ => return Err("--number takes f32 or i16f16".into()),
+            },
+            "--no-intrinsics" => build.intrinsics = false,
+            "--hardware" => hardware = true,
             "--functions" => {
                 top = rest
                     .next()
@@ -70,12 +116,15 @@ pub fn run(args: &[String]) -> Result<(), String> {
     let files = qemu::scene_files(&root, conformance.as_deref());
     let (harness, bootrom) = emulator(&root)?;
     let work = root.join("target/pico-emulator");
+    if hardware {
+        return hardware_table(&root, &harness, &bootrom, &work, &files);
+    }
     let mut runs = Vec::new();
     for scene in &scenes {
         let path = files
             .get(scene)
             .ok_or_else(|| format!("no scene file named {scene}"))?;
-        let run = run_scene(&root, &harness, &bootrom, &work, scene, path)?;
+        let run = run_scene(&root, &harness, &bootrom, &work, scene, path, build)?;
         if top > 0 {
             print!("{}", functions(&root, &work, scene, top)?);
         }
@@ -94,7 +143,7 @@ pub fn run(args: &[String]) -> Result<(), String> {
     }
     let table = table(&runs);
     println!("{table}");
-    if scenes == default_scenes() {
+    if scenes == default_scenes() && build == Build::DEFAULT {
         std::fs::write(root.join("docs/pico.md"), doc(&table)).map_err(|e| e.to_string())?;
     }
     match runs.iter().find(|r| !r.identical) {
@@ -159,11 +208,13 @@ fn run_scene(
     work: &Path,
     scene: &str,
     path: &Path,
+    build: Build,
 ) -> Result<Run, String> {
     let firmware = root.join("firmware/pico");
     let scene_path = path.display().to_string();
+    let features = build.features();
     qemu::cargo(
-        &["build", "--release", "--quiet"],
+        &["build", "--release", "--quiet", "--features", &features],
         &firmware,
         &[("MICRORAY_PICO_SCENE", scene_path.as_str())],
     )?;
@@ -190,7 +241,11 @@ fn run_scene(
         .as_u64()
         .ok_or_else(|| format!("{scene}: the LED never lit and went out: {report}"))?;
     let panel = std::fs::read(&panel_file).map_err(|e| e.to_string())?;
-    let expected = expected_panel(path)?;
+    let expected = if build.f32 {
+        expected_panel::<f32>(path)?
+    } else {
+        expected_panel::<I16F16>(path)?
+    };
     let differing = panel
         .chunks(2)
         .zip(expected.chunks(2))
@@ -208,8 +263,8 @@ fn run_scene(
 
 /// The panel the host's render makes: black, the scene's 240x180 image in its middle, each
 /// pixel converted to Rgb565 as the firmware's target converts it, big-endian.
-fn expected_panel(path: &Path) -> Result<Vec<u8>, String> {
-    let rgb = qemu::host_render::<I16F16>(&Source::File(path), PANEL as u16, HEIGHT as u16, None)?;
+fn expected_panel<S: Scalar>(path: &Path) -> Result<Vec<u8>, String> {
+    let rgb = qemu::host_render::<S>(&Source::File(path), PANEL as u16, HEIGHT as u16, None)?;
     let mut panel = vec![0u8; PANEL * PANEL * 2];
     let top = (PANEL - HEIGHT) / 2;
     for (i, pixel) in rgb.chunks(3).enumerate() {
@@ -245,6 +300,102 @@ fn output_cycles(elf: &Path, cycles_file: &Path) -> Result<f64, String> {
         }
     }
     Ok(output)
+}
+
+/// The scenes the hardware table measures.
+const HARDWARE_SCENES: [&str; 2] = ["spec0", "showcase"];
+
+/// Each build of [`Build`] on [`HARDWARE_SCENES`]: cycles a pixel, and the accuracy of its
+/// number type against `f64` on the host at the Pico's size; docs/pico-hardware.md.
+fn hardware_table(
+    root: &Path,
+    harness: &Path,
+    bootrom: &Path,
+    work: &Path,
+    files: &std::collections::BTreeMap<String, PathBuf>,
+) -> Result<(), String> {
+    let builds = [
+        Build::DEFAULT,
+        Build {
+            f32: false,
+            intrinsics: false,
+        },
+        Build {
+            f32: true,
+            intrinsics: true,
+        },
+        Build {
+            f32: true,
+            intrinsics: false,
+        },
+    ];
+    let mut out = String::from("| build |");
+    for scene in HARDWARE_SCENES {
+        let _ = write!(
+            out,
+            " {scene} cycles/pixel | {scene} identical to f64 | {scene} within ±1 |"
+        );
+    }
+    out.push_str("\n|---|");
+    out.push_str(&"---|---|---|".repeat(HARDWARE_SCENES.len()));
+    out.push('\n');
+    for build in builds {
+        let _ = write!(out, "| {} |", build.name());
+        for scene in HARDWARE_SCENES {
+            let path = files
+                .get(scene)
+                .ok_or_else(|| format!("no scene file named {scene}"))?;
+            let run = run_scene(root, harness, bootrom, work, scene, path, build)?;
+            if !run.identical {
+                return Err(format!(
+                    "{scene} ({}): the panel differs from the host's",
+                    build.name()
+                ));
+            }
+            let (identical, within) = accuracy(path, build.f32)?;
+            let _ = write!(
+                out,
+                " {:.0} | {:.3} % | {:.3} % |",
+                run.render_cycles as f64 / (PANEL * HEIGHT) as f64,
+                identical,
+                within
+            );
+        }
+        out.push('\n');
+    }
+    println!("{out}");
+    let doc = format!(
+        "# The RP2040's hardware for microray\n\n\
+         Written by `cargo xtask pico --hardware`: the Pico firmware of [pico.md](pico.md) in \
+         each number type, with rp2040-hal's intrinsics (integer division by the SIO's \
+         divider; `f32` arithmetic by the bootrom's routines) and without them (the \
+         compiler's software routines, as on any Cortex-M0+), on {}; render cycles a pixel in \
+         the emulator, every panel equal to the host's render in that type. Accuracy is the \
+         host's render in that type against `f64` at the same size (240x180), by channel \
+         byte: identical pixels and pixels within ±1.\n\n{out}",
+        HARDWARE_SCENES.join(" and ")
+    );
+    std::fs::write(root.join("docs/pico-hardware.md"), doc).map_err(|e| e.to_string())
+}
+
+/// The percentages of pixels identical to `f64`'s and within ±1 of them, of the host's render
+/// of `path` at the Pico's size in `f32` or Q16.16.
+fn accuracy(path: &Path, f32: bool) -> Result<(f64, f64), String> {
+    let (width, height) = (PANEL as u16, HEIGHT as u16);
+    let reference = qemu::host_render::<f64>(&Source::File(path), width, height, None)?;
+    let other = if f32 {
+        qemu::host_render::<f32>(&Source::File(path), width, height, None)?
+    } else {
+        qemu::host_render::<I16F16>(&Source::File(path), width, height, None)?
+    };
+    let pixels = reference.len() / 3;
+    let (mut identical, mut within) = (0usize, 0usize);
+    for (a, b) in reference.chunks(3).zip(other.chunks(3)) {
+        identical += usize::from(a == b);
+        within += usize::from(a.iter().zip(b).all(|(x, y)| x.abs_diff(*y) <= 1));
+    }
+    let share = |n: usize| 100.0 * n as f64 / pixels.max(1) as f64;
+    Ok((share(identical), share(within)))
 }
 
 /// The `top` functions of a scene's render by cycles (innermost, inlined ones included), from
@@ -339,6 +490,8 @@ fn doc(table: &str) -> String {
          the progressive passes' block fills, by the innermost function at each address. \
          `cargo xtask pico --only SCENE --functions N` prints a scene's top functions.\n\n\
          {table}\n\
+         The RP2040's hardware (the SIO divider, the bootrom's float routines) against the \
+         compiler's routines, in each number type: [pico-hardware.md](pico-hardware.md).\n\n\
          What is and is not emulated: one core (rp2040js has no core 1: the `two-cores` build \
          is only compiled, and its split of rows is tested on the host); the SPI's bytes take \
          no time on the bus; flash has no wait states (no XIP cache misses).\n"

@@ -13,8 +13,8 @@ use embedded_graphics::pixelcolor::{Rgb565, RgbColor};
 use embedded_graphics::prelude::{DrawTarget, OriginDimensions, Point, Size};
 use embedded_graphics::primitives::Rectangle;
 use heapless::Deque;
+use microray::Scalar;
 use microray::render::Renderer;
-use microray::scalar::I16F16;
 
 use crate::{HEIGHT, PANEL};
 
@@ -31,8 +31,8 @@ pub static READY: Mutex<RefCell<Deque<Row, 4>>> = Mutex::new(RefCell::new(Deque:
 /// Core 0: the rows `0, step, 2 step, ...` into `panel`, and core 1's rows as they come;
 /// returns when all `HEIGHT` rows are on the panel (with `step` 2, core 1 renders the odd
 /// ones; with 1, core 0 renders them all).
-pub fn even_rows<D, const OBJECTS: usize>(
-    renderer: &Renderer<'_, I16F16, OBJECTS>,
+pub fn even_rows<S: Scalar, D, const OBJECTS: usize>(
+    renderer: &Renderer<'_, S, OBJECTS>,
     panel: &mut D,
     step: usize,
 ) where
@@ -52,7 +52,7 @@ pub fn even_rows<D, const OBJECTS: usize>(
 }
 
 /// Core 1: the odd rows, each into the queue (waiting while it is full).
-pub fn odd_rows<const OBJECTS: usize>(renderer: &Renderer<'_, I16F16, OBJECTS>) {
+pub fn odd_rows<S: Scalar, const OBJECTS: usize>(renderer: &Renderer<'_, S, OBJECTS>) {
     let mut target = RowTarget {
         y: 0,
         pixels: [Rgb565::BLACK; WIDTH],

@@ -3,7 +3,7 @@
 use crate::error::{Attr, ErrorKind};
 use crate::name::{Name, bounded};
 use crate::ray::Ray;
-use crate::scalar::{PixelSteps, Scalar, load_length, load_position};
+use crate::scalar::{PixelSteps, RowRoots, Scalar, load_length, load_position};
 use crate::vec3::Vec3;
 #[cfg(feature = "print")]
 use crate::write;
@@ -48,6 +48,8 @@ pub struct RowRays<S> {
     dz: S,
     /// What the rays' lengths share (see [`Scalar::row_squares`]).
     squares: u64,
+    /// The roots of the lengths so far (see [`Scalar::row_length`]).
+    roots: RowRoots,
     x: Positions<S>,
     /// Added to every position along the row (anti-aliasing's sub-pixel samples).
     #[cfg(feature = "antialias")]
@@ -102,7 +104,7 @@ impl<S: Scalar> Iterator for RowRays<S> {
             )
         } else {
             // The length is needed for the distance travelled wherever the ray hits.
-            let len = S::row_length(dir.x, self.dy, self.dz, self.squares);
+            let len = S::row_length(dir.x, self.dy, self.dz, self.squares, &mut self.roots);
             Some((len > S::ZERO).then(|| Ray::with_length(self.eye, dir, len)))
         }
     }
@@ -444,6 +446,7 @@ impl<S: Scalar> Camera<S> {
             dy,
             dz,
             squares: S::row_squares(dy, dz),
+            roots: RowRoots::default(),
             x: Positions::new(world_x, self.width.saturating_sub(1), first, stride),
             #[cfg(feature = "antialias")]
             shift_x: S::ZERO,

@@ -448,7 +448,10 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
     }
 
     /// The shading of a row whose tests are prepared, when its pixels are shaded together
-    /// (colours only: the object-id view shades each pixel alone).
+    /// (colours only: the object-id view shades each pixel alone). Out of line: it runs once
+    /// a row, and in line its levels and lights sat in the render's frame for the whole
+    /// render (about 1.5 KB of the micro:bit's peak stack: docs/speed-log.md, step 6).
+    #[inline(never)]
     fn row_shading<'r>(
         &self,
         shader: &Shader<'r, S>,

@@ -81,9 +81,13 @@ fn one_core(renderer: &HostRenderer<'_, I16F16>) -> Vec<Vec<Rgb565>> {
     renderer
         .render_area(&mut panel, image, &mut row, |_| ControlFlow::Continue(()))
         .unwrap();
+    assert_every_row_once_in_order(&panel);
+    panel.rows.into_iter().map(|(_, pixels)| pixels).collect()
+}
+
+fn assert_every_row_once_in_order(panel: &Panel) {
     let ys: Vec<u16> = panel.rows.iter().map(|(y, _)| *y).collect();
     assert_eq!(ys, (0..HEIGHT).collect::<Vec<_>>());
-    panel.rows.into_iter().map(|(_, pixels)| pixels).collect()
 }
 
 /// Runs the split with core 1 starting `late` (after core 0 has rendered its rows, so that
@@ -162,8 +166,7 @@ fn one_core_alone_renders_every_row_in_order() {
     let expected = one_core(&HostRenderer::new(&scene));
     let mut panel = Panel { rows: Vec::new() };
     split::even_rows(&HostRenderer::new(&scene), &mut panel, 1);
-    let ys: Vec<u16> = panel.rows.iter().map(|(y, _)| *y).collect();
-    assert_eq!(ys, (0..HEIGHT).collect::<Vec<_>>());
+    assert_every_row_once_in_order(&panel);
     let pixels: Vec<Vec<Rgb565>> = panel.rows.into_iter().map(|(_, p)| p).collect();
     assert!(pixels == expected);
 }

@@ -21,7 +21,7 @@ use super::wide::{
     Divisor, all_below, dot_i64_small, dot_q16_small, in_halves, isqrt, leading_zeros, mul_i32,
     mul_q16_small, mul_u32, shr_u64,
 };
-use super::{PixelSteps, Scalar};
+use super::{PixelSteps, RowRoots, Scalar};
 use crate::vec3::Vec3;
 use core::cmp::Ordering;
 use core::fmt;
@@ -347,10 +347,18 @@ impl Scalar for I16F16 {
     fn row_squares(dy: Self, dz: Self) -> u64 {
         square_bits(dy) + square_bits(dz)
     }
-    /// [`length`](Scalar::length)'s exact sum of squares, two of them from the row.
+    /// [`length`](Scalar::length)'s exact sum of squares, two of them from the row, and
+    /// its exact root from the row's last ones (built for size, the integer square root
+    /// alone).
     #[inline(always)]
-    fn row_length(x: Self, _: Self, _: Self, squares: u64) -> Self {
-        Self::saturate(i64::from(isqrt(square_bits(x) + squares)))
+    fn row_length(x: Self, _: Self, _: Self, squares: u64, roots: &mut RowRoots) -> Self {
+        let n = square_bits(x) + squares;
+        let root = if cfg!(microray_small) {
+            isqrt(n)
+        } else {
+            roots.next(n)
+        };
+        Self::saturate(i64::from(root))
     }
     /// The exact 64-bit sum of the products, then 32 significant bits.
     #[inline]
@@ -370,6 +378,14 @@ impl Scalar for I16F16 {
                 .saturating_add(p(a.z, b.z))
         };
         (sum > 0).then(|| Wide::from_u64(sum as u64, -32))
+    }
+    /// The exact sum of the squares, two of them from the row: the sum of
+    /// [`positive_dot`](Scalar::positive_dot), whose saturating sum of squares is the
+    /// exact one up to `i64::MAX`.
+    #[inline(always)]
+    fn positive_row_square(v: Vec3<Self>, squares: u64) -> Option<Wide> {
+        let sum = (square_bits(v.x) + squares).min(i64::MAX as u64);
+        (sum > 0).then(|| Wide::from_u64(sum, -32))
     }
     /// Along an axis on Cortex-M0 (see `dot_along_axis`), where products are dear;
     /// elsewhere the test would cost what it saves.

@@ -23,6 +23,7 @@ pub mod vec3;
 mod wide;
 
 pub use fixed::I16F16;
+pub use wide::RowRoots;
 
 use crate::error::{Attr, ErrorKind};
 use crate::vec3::Vec3;
@@ -116,10 +117,11 @@ pub trait Scalar:
         0
     }
     /// The length of `(x, dy, dz)`, bit for bit [`length`](Self::length)'s, given
-    /// `row_squares(dy, dz)`.
+    /// `row_squares(dy, dz)` and the roots of the row's rays so far (fixed point finds its
+    /// exact root from them; the floats need nothing of them).
     #[inline(always)]
-    fn row_length(x: Self, dy: Self, dz: Self, squares: u64) -> Self {
-        let _ = squares;
+    fn row_length(x: Self, dy: Self, dz: Self, squares: u64, roots: &mut RowRoots) -> Self {
+        let _ = (squares, roots);
         Self::length(Vec3::new(x, dy, dz))
     }
 
@@ -129,6 +131,14 @@ pub trait Scalar:
     type Wide: Copy + fmt::Debug + PartialEq;
     /// `a . b` as a wide number, when it is above zero.
     fn positive_dot(a: Vec3<Self>, b: Vec3<Self>) -> Option<Self::Wide>;
+    /// [`positive_dot(v, v)`](Self::positive_dot), bit for bit, given
+    /// [`row_squares(v.y, v.z)`](Self::row_squares) (the vectors to a light from a row's
+    /// hits, which differ only in `x`).
+    #[inline(always)]
+    fn positive_row_square(v: Vec3<Self>, squares: u64) -> Option<Self::Wide> {
+        let _ = squares;
+        Self::positive_dot(v, v)
+    }
     /// The value as a wide number, when it is above zero.
     fn to_wide(self) -> Option<Self::Wide>;
     /// `self` to the power `exponent` as a wide number (for glints: see

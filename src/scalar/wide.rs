@@ -618,6 +618,79 @@ fn isqrt_by(n: u64, in_words: bool) -> u32 {
     s
 }
 
+/// The square roots of a row's primary rays' squared lengths, each found from the last
+/// three ([`Scalar::row_length`](crate::scalar::Scalar::row_length) in fixed point): the
+/// root is the exact `floor(sqrt(n))` either way, so the lengths are the integer square
+/// root's bit for bit at a fraction of its cost.
+///
+/// Along a row the squared length `x^2 + dy^2 + dz^2` changes smoothly with the pixel, so
+/// its root's third difference is far below one step: the roots' quadratic extrapolation
+/// `3 r1 - 3 r2 + r3` is within a few units of the next (their floors' errors, times 7 at
+/// most), and a few steps by differences of squares reach it exactly.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RowRoots {
+    /// The last three roots, the latest first.
+    last: [u32; 3],
+    /// How many of them there are (up to three).
+    known: u8,
+}
+
+impl RowRoots {
+    /// The most steps from the extrapolation before [`isqrt`] is asked instead.
+    const STEPS: u32 = 8;
+
+    /// `floor(sqrt(n))`, for the next ray of the row.
+    #[inline]
+    pub(crate) fn next(&mut self, n: u64) -> u32 {
+        let [r1, r2, r3] = self.last;
+        // Wrapping: a guess out of range only misses (and `isqrt` answers).
+        let guess = r3.wrapping_add(3u32.wrapping_mul(r1.wrapping_sub(r2)));
+        let near = if self.known >= 3 {
+            root_near(n, guess)
+        } else {
+            None
+        };
+        let root = near.unwrap_or_else(|| isqrt(n));
+        self.last = [root, r1, r2];
+        // A guess too far (a kink, a coarse row): three more roots before the next guess,
+        // so that such a row pays for `isqrt` and the steps on a quarter of its rays.
+        self.known = if near.is_some() || self.known < 3 {
+            self.known.saturating_add(1)
+        } else {
+            0
+        };
+        root
+    }
+}
+
+/// `floor(sqrt(n))` from a guess within [`RowRoots::STEPS`] of it: `s` is the root when
+/// `0 <= n - s^2 <= 2 s`, and each step moves `s` by one and the remainder `n - s^2` by the
+/// difference of the squares. The remainder is kept in 32 bits: for a guess below 2^26
+/// (1,024 in Q16.16) within the steps of the root it is below 2 * 8 * 2^26 + 64, and `s`
+/// stays below 2^26 + 8, so no sum overflows. `None` for a larger guess or one farther
+/// than the steps go.
+#[inline]
+fn root_near(n: u64, guess: u32) -> Option<u32> {
+    if guess >= 1 << 26 {
+        return None;
+    }
+    let mut s = guess as i32;
+    let mut remainder = i32::try_from(n.wrapping_sub(mul_u32(guess, guess)) as i64).ok()?;
+    for _ in 0..RowRoots::STEPS {
+        if remainder < 0 {
+            // s > 0: 0^2 is not above n. (s - 1)^2 = s^2 - 2 s + 1.
+            s -= 1;
+            remainder += 2 * s + 1;
+        } else if remainder > 2 * s {
+            remainder -= 2 * s + 1;
+            s += 1;
+        } else {
+            return Some(s as u32);
+        }
+    }
+    None
+}
+
 /// One Newton step of `y ~ 1 / sqrt(x)`, `x = h / 2^32`, `y` in Q2.30: `y (3 - x y^2) / 2`.
 #[inline(always)]
 fn root_step(h: u32, y: u32) -> u32 {
@@ -676,6 +749,44 @@ mod tests {
         assert_eq!(big.divide((1 << 48) - 1), Some(65536));
     }
 
+    /// The roots of rows of squared lengths as the camera makes them, from one another:
+    /// each equals `u64::isqrt`. With the eye as far from the image as the image is wide or
+    /// more, every one after the first three comes from the guess (else the rows would pay
+    /// for `isqrt` as well as for the steps); with the eye almost on the image, whose
+    /// lengths have a kink, or a few pixels across a wide view, only some do.
+    #[test]
+    fn row_roots_are_exact_and_stepped() {
+        let ordinary = [
+            (240i64, 8i64 << 16, 3i64 << 16, -3i64 << 16, true),
+            (640, 8 << 16, 0, -(8 << 16), true),
+            (320, 60 << 16, 20 << 16, -(40 << 16), true),
+            (120, 100 << 16, 1 << 10, -(100 << 16), true),
+        ];
+        let extreme = [
+            (640, 8 << 16, 0, -(3 << 16) / 100, false),
+            (32, 100 << 16, 1 << 10, -(1 << 16), false),
+            (160, 1 << 16, 0, 1, false),
+            (32, 100 << 16, 1 << 10, -(100 << 16), false),
+        ];
+        for (width, world, dy, dz, all_stepped) in ordinary.into_iter().chain(extreme) {
+            let squares = (dy * dy + dz * dz) as u64;
+            let mut roots = RowRoots::default();
+            let mut stepped = 0;
+            for i in 0..width {
+                let x = world * i / width - world / 2;
+                let n = (x * x) as u64 + squares;
+                if roots.known >= 3 {
+                    let [r1, r2, r3] = roots.last.map(i64::from);
+                    stepped += u32::from(root_near(n, (3 * (r1 - r2) + r3) as u32).is_some());
+                }
+                assert_eq!(roots.next(n), n.isqrt() as u32, "{n}");
+            }
+            if all_stepped {
+                assert_eq!(i64::from(stepped), width - 3, "{width} {world} {dz}");
+            }
+        }
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(200_000))]
 
@@ -684,6 +795,34 @@ mod tests {
             prop_assert_eq!(mul_i32_halves(a, b), i64::from(a) * i64::from(b));
             prop_assert_eq!(mul_u32_halves(c, d), u64::from(c) * u64::from(d));
             prop_assert_eq!(mul_i32(a, b), i64::from(a) * i64::from(b));
+        }
+
+        /// Any sequence at all, smooth or not: every root exact.
+        #[test]
+        fn row_roots_of_any_sequence_are_exact(values in prop::collection::vec(any::<u64>(), 1..12), base: u64, shift in 0u32..64) {
+            let mut roots = RowRoots::default();
+            for v in values {
+                let n = base.wrapping_add(v >> shift);
+                prop_assert_eq!(roots.next(n), n.isqrt() as u32);
+            }
+        }
+
+        /// From any guess near the root or not: the root, or `None`, never another value
+        /// (and no overflow).
+        #[test]
+        fn root_near_is_exact_or_none(n: u64, off in -12i64..12, far: u32) {
+            let root = n.isqrt();
+            for guess in [(root as i64 + off).clamp(0, u32::MAX.into()) as u32, far] {
+                if let Some(s) = root_near(n, guess) {
+                    prop_assert_eq!(u64::from(s), root);
+                }
+            }
+            // Within reach: found exactly when the steps reach it.
+            let small = n >> 12;
+            let guess = (small.isqrt() as i64 + off).max(0) as u32;
+            let found = root_near(small, guess);
+            prop_assert!(found.is_none_or(|s| u64::from(s) == small.isqrt()));
+            prop_assert_eq!(found.is_some(), small.isqrt().abs_diff(u64::from(guess)) < u64::from(RowRoots::STEPS) && guess < 1 << 26);
         }
 
         #[test]

@@ -51,6 +51,11 @@ struct RowLight<'s, S: Scalar> {
     number: u8,
     /// `L . n`, above zero.
     cos_d: S::Wide,
+    /// `L`'s `y` and `z`, the same at every hit of the level, and what their squares share
+    /// ([`Scalar::row_squares`]).
+    to_y: S,
+    to_z: S,
+    squares: u64,
     /// The surface's diffuse times the light's.
     lit: Vec3<S>,
     /// Whether each pixel tests its shadow ray (some object in the way may depend on `x`);
@@ -76,6 +81,10 @@ enum Mirror {
 struct Level<'s, S: Scalar> {
     index: usize,
     t: S,
+    /// The hits' `y` and `z`, the same at every pixel of the row (`base + dir t` with the
+    /// row's `y` and `z` of base and direction).
+    y: S,
+    z: S,
     surface: Surface<'s, S>,
     /// The lights in front of the plane and not known to be blocked along the row.
     lights: heapless::Vec<RowLight<'s, S>, ROW_LIGHTS>,
@@ -203,11 +212,16 @@ impl<'s, S: Scalar> Shader<'s, S> {
         // A ray of the row in all but `x`, whose hits have the row's `y` and `z`.
         let mut ray = Ray::new(origin.eye, Vec3::new(S::ZERO, origin.dy, origin.dz));
         let all_ignore_x = self.all_ignore_x();
-        let mut levels = heapless::Vec::new();
+        // Built in place, level by level (copies of levels and lights were most of the
+        // stack this set-up took).
+        let mut shading = RowShading {
+            levels: heapless::Vec::new(),
+            tested,
+        };
         loop {
             let object = self.objects.get(index)?;
             if !object.surface_is_uniform() {
-                match levels.last_mut() {
+                match shading.levels.last_mut() {
                     // The pixels' mirror rays go their own ways from here.
                     Some(Level { mirror, .. }) => *mirror = Mirror::Trace,
                     None => return None,
@@ -215,36 +229,41 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 break;
             }
             let surface = object.surface(&self.palette, &ray, t)?;
+            let at = ray.at(t);
             let shadow_per_pixel = shadows && !(all_ignore_x || self.shadows_ignore_x(index));
             // The primary rays' plane: the render plan's shadow boxes tell each segment of
             // the row which lights its pixels test.
-            let by_boxes = by_boxes && shadow_per_pixel && levels.is_empty();
-            let lights = self.row_lights(&surface, index, shadows, shadow_per_pixel, by_boxes);
+            let by_boxes = by_boxes && shadow_per_pixel && shading.levels.is_empty();
             let (point, normal) = (surface.hit.point, surface.hit.normal);
             let material = surface.material;
-            let mut level = Level {
-                index,
-                t,
-                surface,
-                lights,
-                mirror: Mirror::None,
-                glints: cfg!(feature = "glint")
-                    && self.stages.glints
-                    && material.shininess != S::ZERO,
-                ambient: !surface.ambient.is_zero(),
-                transparent: self.transmits(material),
-                shadows_per_pixel: shadow_per_pixel,
-                by_boxes,
-            };
+            let full = shading.levels.len() + 1 == ROW_LEVELS;
+            // Cannot fail: a level is added only below the capacity.
+            shading
+                .levels
+                .push(Level {
+                    index,
+                    t,
+                    y: at.y,
+                    z: at.z,
+                    surface,
+                    lights: heapless::Vec::new(),
+                    mirror: Mirror::None,
+                    glints: cfg!(feature = "glint")
+                        && self.stages.glints
+                        && material.shininess != S::ZERO,
+                    ambient: !surface.ambient.is_zero(),
+                    transparent: self.transmits(material),
+                    shadows_per_pixel: shadow_per_pixel,
+                    by_boxes,
+                })
+                .ok()?;
+            let level = shading.levels.last_mut()?;
+            self.row_lights(level, at, shadows, shadow_per_pixel, by_boxes);
             if !self.mirrors(material) {
-                // Cannot fail: a level is added only below the capacity.
-                levels.push(level).ok()?;
                 break;
             }
-            let full = levels.len() + 1 == ROW_LEVELS;
             if full || !all_ignore_x {
                 level.mirror = Mirror::Trace;
-                levels.push(level).ok()?;
                 break;
             }
             // The mirror rays: `y` and `z` of base and direction are the row's.
@@ -259,31 +278,30 @@ impl<'s, S: Scalar> Shader<'s, S> {
             );
             let Some((next_index, next_t)) = next else {
                 level.mirror = Mirror::Nothing;
-                levels.push(level).ok()?;
                 break;
             };
             level.mirror = Mirror::Level;
-            levels.push(level).ok()?;
             (index, t) = (next_index, next_t);
         }
-        Some(RowShading { levels, tested })
+        Some(shading)
     }
 
-    /// The lights that can reach a level's surface along the row; shadow rays are tested
-    /// once for the row, or by each pixel when `shadow_per_pixel`; `by_boxes`, the objects
-    /// that ignore `x` are tested once for the row, and the others by each pixel.
+    /// Adds to `level` the lights that can reach its surface along the row (`at`: the row's
+    /// hit); shadow rays are tested once for the row, or by each pixel when
+    /// `shadow_per_pixel`; `by_boxes`, the objects that ignore `x` are tested once for the
+    /// row, and the others by each pixel.
     fn row_lights(
         &self,
-        surface: &Surface<'s, S>,
-        index: usize,
+        level: &mut Level<'s, S>,
+        at: Vec3<S>,
         shadows: bool,
         shadow_per_pixel: bool,
         by_boxes: bool,
-    ) -> heapless::Vec<RowLight<'s, S>, ROW_LIGHTS> {
+    ) {
+        let (surface, index) = (&level.surface, level.index);
         let (point, normal) = (surface.hit.point, surface.hit.normal);
-        let mut lights = heapless::Vec::new();
         if !self.stages.illumination {
-            return lights;
+            return;
         }
         for (number, light) in self.lights.iter().enumerate() {
             let to_light = light.location - point;
@@ -297,16 +315,19 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 continue;
             }
             let lit = surface.diffuse.mul_each(light.diffuse_emissivity);
+            let (to_y, to_z) = (light.location.y - at.y, light.location.z - at.z);
             // Cannot fail: the row's shading is only made for at most `ROW_LIGHTS` lights.
-            let _ = lights.push(RowLight {
+            let _ = level.lights.push(RowLight {
                 light,
                 number: u8::try_from(number).unwrap_or(u8::MAX),
                 cos_d,
+                to_y,
+                to_z,
+                squares: S::row_squares(to_y, to_z),
                 lit,
                 shadow_per_pixel,
             });
         }
-        lights
     }
 
     /// The colour seen along a primary ray of a row prepared by
@@ -397,9 +418,11 @@ impl<'s, S: Scalar> Shader<'s, S> {
         };
         let surface = &level.surface;
         let material = surface.material;
+        // `ray.at(level.t)`, its `y` and `z` the row's.
+        let x = ray.base.x + ray.dir.x * level.t;
         let hit = Hit {
             t: level.t,
-            point: ray.at(level.t),
+            point: Vec3::new(x, level.y, level.z),
             normal: surface.hit.normal,
         };
         let len = ray.length();
@@ -457,8 +480,9 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let mut per_total = None;
         for lit in &level.lights {
             let light = lit.light;
-            let to_light = light.location - hit.point;
-            let Some(d_squared) = S::positive_dot(to_light, to_light) else {
+            // `light.location - hit.point`, its `y` and `z` the row's.
+            let to_light = Vec3::new(light.location.x - hit.point.x, lit.to_y, lit.to_z);
+            let Some(d_squared) = S::positive_row_square(to_light, lit.squares) else {
                 continue;
             };
             if cfg!(feature = "spotlight") && light.spot.is_some() && !in_cone(light, to_light) {

@@ -12,7 +12,7 @@
 use crate::profile::Symbolizer;
 use crate::qemu::{self, COURSE_SCENES, Source};
 use embedded_graphics::pixelcolor::{Rgb565, Rgb888};
-use embedded_graphics::prelude::{IntoStorage, RgbColor};
+use embedded_graphics::prelude::IntoStorage;
 use microray::Scalar;
 use microray::scalar::I16F16;
 use std::fmt::Write as _;
@@ -77,6 +77,8 @@ struct Run {
     render_cycles: u64,
     /// Cycles in the panel's driver, the SPI and the passes' block fills, of the render's.
     output_cycles: f64,
+    /// Cycles by innermost function (inlined ones included), most first.
+    functions: Vec<(String, f64)>,
 }
 
 pub fn run(args: &[String]) -> Result<(), String> {
@@ -126,7 +128,7 @@ pub fn run(args: &[String]) -> Result<(), String> {
             .ok_or_else(|| format!("no scene file named {scene}"))?;
         let run = run_scene(&root, &harness, &bootrom, &work, scene, path, build)?;
         if top > 0 {
-            print!("{}", functions(&root, &work, scene, top)?);
+            print!("{}", functions(&run, top));
         }
         println!(
             "{scene}: {} ({} pixels differ), {} render cycles, output {:.1} %",
@@ -251,13 +253,14 @@ fn run_scene(
         .zip(expected.chunks(2))
         .filter(|(a, b)| a != b)
         .count();
-    let output_cycles = output_cycles(&elf, &cycles_file)?;
+    let (output_cycles, functions) = profile(&elf, &cycles_file)?;
     Ok(Run {
         scene: scene.to_string(),
         identical: panel.len() == expected.len() && differing == 0,
         differing,
         render_cycles,
         output_cycles,
+        functions,
     })
 }
 
@@ -277,29 +280,34 @@ fn expected_panel<S: Scalar>(path: &Path) -> Result<Vec<u8>, String> {
             slot.copy_from_slice(&raw);
         }
     }
-    let _ = Rgb565::BLACK;
     Ok(panel)
 }
 
-/// The render's cycles spent outside tracing: in the firmware's row stream, the panel's
-/// driver, the SPI, DMA and the HAL, embedded-graphics' drawing, and the progressive passes'
-/// block fills (by the innermost
-/// function at each address, inlined ones included).
-fn output_cycles(elf: &Path, cycles_file: &Path) -> Result<f64, String> {
+/// One pass over a run's profile: the cycles spent outside tracing (in the firmware's row
+/// stream, the panel's driver, the SPI, DMA and the HAL, embedded-graphics' drawing, and the
+/// progressive passes' block fills), and the cycles of each innermost function (inlined ones
+/// included), most first.
+fn profile(elf: &Path, cycles_file: &Path) -> Result<(f64, Vec<(String, f64)>), String> {
     let bytes = std::fs::read(cycles_file).map_err(|e| e.to_string())?;
     let mut symbolizer = Symbolizer::new(elf)?;
     let mut output = 0.0;
+    let mut by_function: std::collections::HashMap<String, f64> = Default::default();
     for (halfword, chunk) in bytes.chunks_exact(8).enumerate() {
         let cycles = f64::from_le_bytes(chunk.try_into().unwrap_or([0; 8]));
         if cycles == 0.0 {
             continue;
         }
         let address = 0x1000_0000 + 2 * halfword as u64;
-        if symbolizer.chain(address).iter().any(|name| is_output(name)) {
+        let chain = symbolizer.chain(address);
+        if chain.iter().any(|name| is_output(name)) {
             output += cycles;
         }
+        let innermost = chain.first().cloned().unwrap_or_default();
+        *by_function.entry(innermost).or_insert(0.0) += cycles;
     }
-    Ok(output)
+    let mut functions: Vec<(String, f64)> = by_function.into_iter().collect();
+    functions.sort_by(|a, b| b.1.total_cmp(&a.1));
+    Ok((output, functions))
 }
 
 /// The scenes the hardware table measures.
@@ -398,38 +406,19 @@ fn accuracy(path: &Path, f32: bool) -> Result<(f64, f64), String> {
     Ok((share(identical), share(within)))
 }
 
-/// The `top` functions of a scene's render by cycles (innermost, inlined ones included), from
-/// its last run's profile.
-fn functions(root: &Path, work: &Path, scene: &str, top: usize) -> Result<String, String> {
-    let elf = root.join("firmware/pico/target/thumbv6m-none-eabi/release/microray-pico");
-    let bytes = std::fs::read(work.join(format!("{scene}.cycles"))).map_err(|e| e.to_string())?;
-    let mut symbolizer = Symbolizer::new(&elf)?;
-    let mut by_function: std::collections::HashMap<String, f64> = Default::default();
-    let mut total = 0.0;
-    for (halfword, chunk) in bytes.chunks_exact(8).enumerate() {
-        let cycles = f64::from_le_bytes(chunk.try_into().unwrap_or([0; 8]));
-        if cycles > 0.0 {
-            let address = 0x1000_0000 + 2 * halfword as u64;
-            let name = symbolizer
-                .chain(address)
-                .first()
-                .cloned()
-                .unwrap_or_default();
-            *by_function.entry(name).or_insert(0.0) += cycles;
-            total += cycles;
-        }
-    }
-    let mut sorted: Vec<(String, f64)> = by_function.into_iter().collect();
-    sorted.sort_by(|a, b| b.1.total_cmp(&a.1));
+/// The `top` functions of a run by cycles a pixel.
+fn functions(run: &Run, top: usize) -> String {
     let pixels = (PANEL * HEIGHT) as f64;
+    let total: f64 = run.functions.iter().map(|(_, cycles)| cycles).sum();
     let mut out = format!(
-        "{scene}: cycles a pixel by function ({:.0} in all)\n",
+        "{}: cycles a pixel by function ({:.0} in all)\n",
+        run.scene,
         total / pixels
     );
-    for (name, cycles) in sorted.iter().take(top) {
+    for (name, cycles) in run.functions.iter().take(top) {
         let _ = writeln!(out, "{:9.1}  {name}", cycles / pixels);
     }
-    Ok(out)
+    out
 }
 
 /// Whether a function belongs to the way out to the panel rather than to tracing.

@@ -4,8 +4,10 @@
 //! walls of the course's scenes) they all meet it at the same `t` (see
 //! [`RowTest::At`](crate::object::RowTest::At)), and their hit points differ only in `x`.
 //! Whatever reads only `y` and `z` is then the same at every pixel of the row, bit for bit:
-//! the plane's surface look-up, each light's `L . n` (the normal has no x part), and the
-//! shadow test when every object a shadow ray can meet ignores `x` too
+//! the hit's `y` and `z`, the plane's surface look-up, each light's `L . n` (the normal has
+//! no x part) and, in fixed point, whose sums of products are exact, the `y` and `z` share
+//! of `|L|^2` ([`Scalar::positive_row_square`]), and the shadow test when every object a
+//! shadow ray can meet ignores `x` too
 //! ([`Object::hits_ignore_x`](crate::object::Object::hits_ignore_x)). [`RowShading`] works
 //! those out once a row; each pixel computes the rest with the same operations as
 //! [`Shader::primary_in_row`], so the pixels are the same:

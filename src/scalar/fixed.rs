@@ -101,7 +101,8 @@ impl I16F16 {
         }
         let msb = 31 - leading_zeros(bits as u32);
         let mut m = (bits as u32) << (30 - msb); // mantissa in [1, 2) as Q2.30
-        let mut fraction = 0i64;
+        // In 32 bits: a variable shift of an `i64` is a library call on ARMv6-M.
+        let mut fraction = 0u32;
         for i in 1..=24 {
             // m^2 is below 4: Q2.30 again after the shift.
             m = (mul_u32(m, m) >> 30) as u32;
@@ -110,7 +111,7 @@ impl I16F16 {
                 fraction |= 1 << (24 - i);
             }
         }
-        ((i64::from(msb) - i64::from(FRAC)) << 24) + fraction
+        ((i64::from(msb) - i64::from(FRAC)) << 24) + i64::from(fraction)
     }
 
     /// `2^y` for a Q.24 exponent: the integer part shifts, the fraction multiplies the
@@ -135,6 +136,9 @@ impl I16F16 {
             1073764537, 1073753181, 1073747502, 1073744663, 1073743244, 1073742534, 1073742179,
             1073742001, 1073741913, 1073741868,
         ];
+        // The fraction's 24 bits in a `u32`: a variable shift of an `i64` is a library call
+        // on ARMv6-M.
+        let fraction = (fraction & ((1 << 24) - 1)) as u32;
         let mut p: u32 = 1 << 30;
         for (i, root) in ROOTS.iter().enumerate() {
             if fraction & (1 << (23 - i)) != 0 {
@@ -156,7 +160,9 @@ impl I16F16 {
         let p = Self::exp2_mantissa(y & ((1 << 24) - 1));
         // p is 2^fraction as Q2.30; the result in Q16.16 is p * 2^k >> 14, rounded.
         let shift = 14 - k; // 1..=32
-        let rounded = shr_u64(u64::from(p) + (1u64 << (shift - 1)), shift as u32);
+        // Half a unit below 2^32: a 32-bit shift (a 64-bit one is a call on ARMv6-M).
+        let half = u64::from(1u32 << (shift - 1));
+        let rounded = shr_u64(u64::from(p) + half, shift as u32);
         Self::saturate(rounded as i64)
     }
 }

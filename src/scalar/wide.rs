@@ -81,6 +81,28 @@ fn shr_u64_halves(v: u64, s: u32) -> u64 {
     }
 }
 
+/// `v << s` for any `s` (0 from 64 on), without a call to a 64-bit shift routine.
+#[inline]
+fn shl_u64(v: u64, s: u32) -> u64 {
+    if HALVES {
+        shl_u64_halves(v, s)
+    } else {
+        v.checked_shl(s).unwrap_or(0)
+    }
+}
+
+/// [`shl_u64`] on 32-bit halves (0 from 64 on).
+#[inline]
+fn shl_u64_halves(v: u64, s: u32) -> u64 {
+    let (low, high) = (v as u32, (v >> 32) as u32);
+    match s {
+        0 => v,
+        1..=31 => (u64::from((high << s) | (low >> (32 - s))) << 32) | u64::from(low << s),
+        32..=63 => u64::from(low << (s - 32)) << 32,
+        _ => 0,
+    }
+}
+
 /// Leading zeros of a `u32`: ARMv6-M has no CLZ, and `u32::leading_zeros` becomes a call
 /// to a general routine; two comparisons and a table of bytes are shorter.
 #[inline]
@@ -454,8 +476,10 @@ impl Wide {
             let high = (product >> 32) as u32;
             (high + (1 << (shift - 33))) >> (shift - 32)
         } else {
-            // Half a unit of the result, added before the shift (the product is below 2^63).
-            match u32::try_from(shr_u64(product + (1u64 << (shift - 1)), shift)) {
+            // Half a unit of the result, added before the shift (the product is below 2^63);
+            // below 2^32, so a 32-bit shift (a 64-bit one is a call on ARMv6-M).
+            let half = u64::from(1u32 << (shift - 1));
+            match u32::try_from(shr_u64(product + half, shift)) {
                 Ok(v) => v,
                 Err(_) => return saturated,
             }
@@ -577,7 +601,13 @@ fn isqrt_by(n: u64, in_words: bool) -> u32 {
     }
     // n = m / 2^(2k), m in [2^62, 2^64); x = m / 2^64 in [1/4, 1).
     let k = leading_zeros_u64(n) / 2;
-    let m = n << (2 * k);
+    // 2 k is below 64. Built for size, the routine's call (code shared with the rest) takes
+    // less flash than the shift in halves.
+    let m = if cfg!(microray_small) {
+        n << (2 * k)
+    } else {
+        shl_u64(n, 2 * k)
+    };
     let h = (m >> 32) as u32;
     let top = RECIPROCAL_ROOTS
         .get(((h >> 24) as usize).saturating_sub(64))
@@ -848,6 +878,8 @@ mod tests {
 
         #[test]
         fn shifts_are_exact(v: u64, s in 0u32..70) {
+            prop_assert_eq!(shl_u64_halves(v, s), v.checked_shl(s).unwrap_or(0));
+            prop_assert_eq!(shl_u64(v, s), v.checked_shl(s).unwrap_or(0));
             prop_assert_eq!(shr_u64_halves(v, s), v.checked_shr(s).unwrap_or(0));
             prop_assert_eq!(shr_u64(v, s), v.checked_shr(s).unwrap_or(0));
         }

@@ -123,12 +123,13 @@ impl I16F16 {
         if !(-1000..15).contains(&k) {
             return None;
         }
-        let p = Self::exp2_mantissa(y & ((1 << 24) - 1));
+        let p = Self::exp2_mantissa(y);
         Some(Wide::from_u64(u64::from(p), k as i32 - 30))
     }
 
-    /// `2^f` as Q2.30 for a Q.24 fraction `f` in `[0, 1)`.
-    fn exp2_mantissa(fraction: i64) -> u32 {
+    /// `2^f` as Q2.30 for the fraction `f` in `[0, 1)` of a Q.24 exponent `y` (its low 24
+    /// bits).
+    fn exp2_mantissa(y: i64) -> u32 {
         // 2^(2^-i) as Q2.30, i = 1..24.
         const ROOTS: [u32; 24] = [
             1518500250, 1276901417, 1170923762, 1121280436, 1097253708, 1085434106, 1079572136,
@@ -138,7 +139,7 @@ impl I16F16 {
         ];
         // The fraction's 24 bits in a `u32`: a variable shift of an `i64` is a library call
         // on ARMv6-M.
-        let fraction = (fraction & ((1 << 24) - 1)) as u32;
+        let fraction = (y & ((1 << 24) - 1)) as u32;
         let mut p: u32 = 1 << 30;
         for (i, root) in ROOTS.iter().enumerate() {
             if fraction & (1 << (23 - i)) != 0 {
@@ -157,7 +158,7 @@ impl I16F16 {
         if k < -18 {
             return Self::from_bits(0);
         }
-        let p = Self::exp2_mantissa(y & ((1 << 24) - 1));
+        let p = Self::exp2_mantissa(y);
         // p is 2^fraction as Q2.30; the result in Q16.16 is p * 2^k >> 14, rounded.
         let shift = 14 - k; // 1..=32
         // Half a unit below 2^32: a 32-bit shift (a 64-bit one is a call on ARMv6-M).

@@ -83,10 +83,8 @@ enum Mirror {
 struct Level<'s, S: Scalar> {
     index: usize,
     t: S,
-    /// The hits' `y` and `z`, the same at every pixel of the row (`base + dir t` with the
-    /// row's `y` and `z` of base and direction).
-    y: S,
-    z: S,
+    /// The row's hit (`ray.at(t)`, as every kind's surface takes it, for the row's ray): its
+    /// `y` and `z` are every pixel's.
     surface: Surface<'s, S>,
     /// The lights in front of the plane and not known to be blocked along the row.
     lights: heapless::Vec<RowLight<'s, S>, ROW_LIGHTS>,
@@ -231,7 +229,6 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 break;
             }
             let surface = object.surface(&self.palette, &ray, t)?;
-            let at = ray.at(t);
             let shadow_per_pixel = shadows && !(all_ignore_x || self.shadows_ignore_x(index));
             // The primary rays' plane: the render plan's shadow boxes tell each segment of
             // the row which lights its pixels test.
@@ -245,8 +242,6 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 .push(Level {
                     index,
                     t,
-                    y: at.y,
-                    z: at.z,
                     surface,
                     lights: heapless::Vec::new(),
                     mirror: Mirror::None,
@@ -260,7 +255,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 })
                 .ok()?;
             let level = shading.levels.last_mut()?;
-            self.row_lights(level, at, shadows, shadow_per_pixel, by_boxes);
+            self.row_lights(level, shadows, shadow_per_pixel, by_boxes);
             if !self.mirrors(material) {
                 break;
             }
@@ -288,14 +283,12 @@ impl<'s, S: Scalar> Shader<'s, S> {
         Some(shading)
     }
 
-    /// Adds to `level` the lights that can reach its surface along the row (`at`: the row's
-    /// hit); shadow rays are tested once for the row, or by each pixel when
-    /// `shadow_per_pixel`; `by_boxes`, the objects that ignore `x` are tested once for the
-    /// row, and the others by each pixel.
+    /// Adds to `level` the lights that can reach its surface along the row; shadow rays are
+    /// tested once for the row, or by each pixel when `shadow_per_pixel`; `by_boxes`, the
+    /// objects that ignore `x` are tested once for the row, and the others by each pixel.
     fn row_lights(
         &self,
         level: &mut Level<'s, S>,
-        at: Vec3<S>,
         shadows: bool,
         shadow_per_pixel: bool,
         by_boxes: bool,
@@ -317,7 +310,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 continue;
             }
             let lit = surface.diffuse.mul_each(light.diffuse_emissivity);
-            let (to_y, to_z) = (light.location.y - at.y, light.location.z - at.z);
+            let (to_y, to_z) = (light.location.y - point.y, light.location.z - point.z);
             // Cannot fail: the row's shading is only made for at most `ROW_LIGHTS` lights.
             let _ = level.lights.push(RowLight {
                 light,
@@ -424,7 +417,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let x = ray.base.x + ray.dir.x * level.t;
         let hit = Hit {
             t: level.t,
-            point: Vec3::new(x, level.y, level.z),
+            point: Vec3::new(x, surface.hit.point.y, surface.hit.point.z),
             normal: surface.hit.normal,
         };
         let len = ray.length();

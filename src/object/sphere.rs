@@ -75,6 +75,16 @@ impl<S: Scalar> Sphere<S> {
             let c = f.dot(f) - self.radius_squared;
             return ahead(c / q, limit);
         }
+        // Most tests of such rays miss, and fixed point can tell most of them without the
+        // length's square root and the quotients below (the same outcome, exactly).
+        if S::misses_ball(
+            ray.base - self.center,
+            ray.dir,
+            ray.len,
+            self.radius_squared,
+        ) {
+            return None;
+        }
         // One wide reciprocal for the direction and for `t` (written out here, not through
         // `unit_direction`: inlined this way the minimal firmware is 300 B smaller).
         let len = ray.length();

@@ -16,6 +16,7 @@
 //! | [`Scalar::pow_positive`] | `exp2(e * log2(x))`, both bit by bit to 24 bits | within 0.8 of a step (2^-16) of the exact power for `x` in (0, 1], `e` up to 250 (measured: 0.76) |
 //! | [`Scalar::to_byte`] | `(bits * 255) >> 16` | exactly the f64 conversion of the same value |
 
+use super::ball::BallTest;
 pub use super::wide::Wide;
 use super::wide::{
     Divisor, all_below, dot_i64_small, dot_q16_small, in_halves, isqrt, leading_zeros, mul_i32,
@@ -353,6 +354,19 @@ impl Scalar for I16F16 {
     #[inline(always)]
     fn row_squares(dy: Self, dz: Self) -> u64 {
         square_bits(dy) + square_bits(dz)
+    }
+    /// The exact pre-test of `src/scalar/ball.rs`, for rays whose length the test works
+    /// out (built for size, left out: the test alone decides).
+    #[inline]
+    fn misses_ball(f: Vec3<Self>, dir: Vec3<Self>, len: Self, r_squared: Self) -> bool {
+        !cfg!(microray_small)
+            && len == Self::ZERO
+            && BallTest {
+                f: f.bits(),
+                dir: dir.bits(),
+                radius_squared: r_squared.to_bits(),
+            }
+            .misses()
     }
     /// [`length`](Scalar::length)'s exact sum of squares, two of them from the row, and
     /// its exact root from the row's last ones (built for size, the integer square root

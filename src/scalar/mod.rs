@@ -18,6 +18,7 @@
 //! vectors live here too ([`vec3`], re-exported at the crate's root as `microray::vec3`):
 //! the trait and the vector need each other.
 
+mod ball;
 pub mod fixed;
 pub mod vec3;
 mod wide;
@@ -108,6 +109,16 @@ pub trait Scalar:
     /// instructions on scenes of rectangles).
     const AXIS_READS: bool = true;
 
+    /// Whether [`Sphere::nearest`](crate::object::sphere::Sphere::nearest)'s test of a ray
+    /// that is not a unit ray certainly misses, `f` being the ray's base less the centre,
+    /// `len` its stored length (zero: none): fixed point decides most misses from exact
+    /// integer sums before it divides the direction by its length (`src/scalar/ball.rs`);
+    /// the floats' tests are cheap enough as they are.
+    #[inline(always)]
+    fn misses_ball(f: Vec3<Self>, dir: Vec3<Self>, len: Self, r_squared: Self) -> bool {
+        let _ = (f, dir, len, r_squared);
+        false
+    }
     /// What the lengths of a row's primary ray directions `(x, dy, dz)` share along the
     /// row, for [`row_length`](Self::row_length): fixed point's exact `dy^2 + dz^2`; the
     /// floats, whose sum is rounded in order, share nothing.

@@ -434,6 +434,29 @@ impl Wide {
         }
     }
 
+    /// The next number above (for bounds from above: every operation truncates, so a
+    /// result one step up is at least the exact value).
+    #[inline]
+    pub(crate) fn up(self) -> Self {
+        match self.mantissa.checked_add(1) {
+            _ if self.mantissa == 0 => self,
+            Some(mantissa) => Self { mantissa, ..self },
+            None => Self {
+                mantissa: 1 << 31,
+                exponent: self.exponent.saturating_add(1),
+            },
+        }
+    }
+
+    /// Whether `self >= other`.
+    #[inline]
+    pub(crate) fn at_least(self, other: Self) -> bool {
+        if other.mantissa == 0 {
+            return true;
+        }
+        self.mantissa != 0 && (self.exponent, self.mantissa) >= (other.exponent, other.mantissa)
+    }
+
     /// The reciprocal (of zero: the largest value there is).
     #[inline]
     pub(crate) fn recip(self) -> Self {

@@ -644,7 +644,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         if let Some(texel) = texel {
             lit = lit.mul_each(texel);
         }
-        let per_total = add_diffuse(lit, cos_d, d_squared, total, c);
+        let per_total = S::wide_mul(d_squared, add_diffuse(lit, cos_d, d_squared, total, c));
         let material = surface.material;
         if cfg!(feature = "glint") && self.stages.glints && material.shininess != S::ZERO {
             *c = *c
@@ -993,8 +993,9 @@ impl Path {
 }
 
 /// Adds the diffuse light `lit` of a light that shines on a hit, times `cos_d / (d_squared
-/// total)` (`L . n` over `L . L` and the distance travelled), to `c`, and returns
-/// `1 / total`: one reciprocal for both.
+/// total)` (`L . n` over `L . L` and the distance travelled), to `c`, and returns that
+/// reciprocal `r = 1 / (d_squared total)`: `d_squared r` is `1 / total`, for the glint and
+/// the ambient light (one reciprocal for all three), where they need it.
 #[inline(always)]
 fn add_diffuse<S: Scalar>(
     lit: Vec3<S>,
@@ -1005,7 +1006,7 @@ fn add_diffuse<S: Scalar>(
 ) -> S::Wide {
     let r = S::wide_recip(S::wide_mul(d_squared, total));
     *c = *c + scaled(lit, S::wide_mul(cos_d, r));
-    S::wide_mul(d_squared, r)
+    r
 }
 
 /// `1 / total` where no light shone (out of line: the division is not worth speculating).

@@ -486,11 +486,17 @@ impl<'s, S: Scalar> Shader<'s, S> {
             if blocked(lit, to_light) {
                 continue;
             }
-            let per = add_diffuse(lit.lit, lit.cos_d, d_squared, total, &mut c);
-            if cfg!(feature = "glint") && level.glints {
-                c = c + glint(light, None, material, hit.normal, ray.dir, to_light, per);
+            let r = add_diffuse(lit.lit, lit.cos_d, d_squared, total, &mut c);
+            let glints = cfg!(feature = "glint") && level.glints;
+            // `1 / total` (a wide product) only where a glint or the ambient light needs it, in
+            // fixed point; the floats' product is one instruction, not worth the branch.
+            if S::WIDE_RANGE || glints || (level.ambient && per_total.is_none()) {
+                let per = S::wide_mul(d_squared, r);
+                if glints {
+                    c = c + glint(light, None, material, hit.normal, ray.dir, to_light, per);
+                }
+                per_total.get_or_insert(per);
             }
-            per_total.get_or_insert(per);
         }
         if !level.ambient {
             return c;

@@ -380,11 +380,29 @@ fn hardware_table(
          compiler's software routines, as on any Cortex-M0+), on {}; render cycles a pixel in \
          the emulator, every panel equal to the host's render in that type. Accuracy is the \
          host's render in that type against `f64` at the same size (240x180), by channel \
-         byte: identical pixels and pixels within ±1.\n\n{out}",
+         byte: identical pixels and pixels within ±1.\n\n{out}\n{UNUSED_HARDWARE}",
         HARDWARE_SCENES.join(" and ")
     );
     std::fs::write(root.join("docs/pico-hardware.md"), doc).map_err(|e| e.to_string())
 }
+
+/// What docs/pico-hardware.md says of the hardware its table leaves out, measured with
+/// `cargo xtask pico --only spec0,showcase,texplane1 --functions 80` (Q16.16).
+const UNUSED_HARDWARE: &str = "What the table leaves out, and why, from the cycles a pixel \
+     by function (`cargo xtask pico --only spec0,showcase,texplane1 --functions 80`, Q16.16):\n\n\
+     - **The SIO divider for Q16.16's own divisions.** rp2040-hal routes Rust's integer \
+     divisions to it, but Q16.16 divides by an exact reciprocal in 32-bit products \
+     (`src/scalar/wide.rs`), so the table's two Q16.16 rows are the same within 0.1 %. That \
+     exact division (`I16F16::divide_by`, `Div::div`, `Divisor` and its reciprocal) takes \
+     under 1 cycle a pixel on spec0 (its planes' hits are the row's, worked out once), 264 of \
+     2,624 on texplane1 (10 %) and 1,468 of 24,868 on the showcase (5.9 %): what a division \
+     on the SIO's 32/32-bit divider (8 cycles, two of them for the 48/32-bit quotient) could \
+     take part of. The library has no `unsafe` and no hook for a board's divider; one is \
+     the next step for the Pico.\n\
+     - **The interpolators.** What they do (a shifted, masked accumulator plus a base: table \
+     and texture addresses along a row) is what `TexPlane::texel_at` and `Texture::texel` \
+     do: 36 cycles a pixel on texplane1 (1.4 %), less elsewhere; stepping them would save \
+     part of that and cost a hook per look-up. Not used.\n";
 
 /// The percentages of pixels identical to `f64`'s and within ±1 of them, of the host's render
 /// of `path` at the Pico's size in `f32` or Q16.16.

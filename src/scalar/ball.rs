@@ -7,8 +7,9 @@
 //! a square root, a reciprocal and three quotients, then two dot products, whatever the
 //! outcome. Most such tests miss (in the showcase 96 %: 81 % by the discriminant, 15 %
 //! because the ray leaves the centre behind). Whether they miss can be decided from the
-//! direction as it is, with integer sums that make no error, against a margin that bounds every rounding of the test it stands for: where the
-//! pre-test says miss, the test would have missed, so the images are the same bit for bit.
+//! direction as it is, with integer sums that make no error, against a margin that bounds
+//! every rounding of the test it stands for: where the pre-test says miss, the test would
+//! have missed, so the images are the same bit for bit.
 //!
 //! The bounds, with `ε = 2^-16`, `f = base - center`, `F1 = |f|₁`, `len = ⌊|dir|⌋` (what
 //! the test divides by; at least 2 steps, so `κ = |dir| / len <= 1.5`) and `v = dir / len`:
@@ -33,7 +34,7 @@
 use super::wide::{Wide, in_halves, mul_i32, mul_u32};
 
 /// The largest `|f|₁`, in Q16.16 bits, the pre-test takes (256 units; beyond, the test runs
-/// alone: the bounds' sums would not fit 64 bits).
+/// alone): below it `f . dir` and `|f|^2` fit 64 bits and the margins their bounds.
 const MAX_SPAN_BITS: u32 = 1 << 24;
 
 /// A shadow ray and a sphere, in Q16.16 bits: `f = base - center`, the ray's direction and

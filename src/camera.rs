@@ -23,6 +23,57 @@ pub struct RowOrigin<S> {
     pub dz: S,
     /// The scene's z rule (see [`closest_hit`](crate::hits::closest_hit)).
     pub z_limit: S,
+    /// The rays' `x` component, column by column.
+    pub columns: RowColumns<S>,
+}
+
+/// The `x` component of the directions of a row's primary rays, column by column (the
+/// whole row, whichever columns are rendered): what a kind needs to find the run of
+/// columns whose rays can meet it (see [`RowTest::AtAcross`](crate::object::RowTest)).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RowColumns<S> {
+    world: S,
+    /// The last column (the window's `world` lies over `n` steps between pixels).
+    n: u16,
+    /// `Multiply`: `world / n`, as the row's positions have it (unused otherwise).
+    step: S,
+    eye_x: S,
+    #[cfg(feature = "antialias")]
+    shift_x: S,
+    count: u16,
+}
+
+impl<S: Scalar> RowColumns<S> {
+    /// No columns (a row whose rays are not known by column).
+    #[cfg(test)]
+    pub(crate) fn none() -> Self {
+        Self {
+            world: S::ZERO,
+            n: 0,
+            step: S::ZERO,
+            eye_x: S::ZERO,
+            #[cfg(feature = "antialias")]
+            shift_x: S::ZERO,
+            count: 0,
+        }
+    }
+
+    /// How many columns the row has.
+    pub fn count(&self) -> u16 {
+        self.count
+    }
+
+    /// The `x` of the direction of the ray through `column`, bit for bit as
+    /// [`RowRays`] makes it. Not for `f64`, whose rays are normalised.
+    pub fn dir_x(&self, column: u16) -> S {
+        let x = match S::PIXEL_STEPS {
+            PixelSteps::Course | PixelSteps::Exact => self.world.mul_ratio(column, self.n),
+            PixelSteps::Multiply => self.step * S::from_i32(i32::from(column)),
+        };
+        #[cfg(feature = "antialias")]
+        let x = x + self.shift_x;
+        x - self.eye_x
+    }
 }
 
 #[cfg(all(feature = "plan", feature = "batch"))]
@@ -67,6 +118,15 @@ impl<S: Scalar> RowRays<S> {
             dy: self.dy,
             dz: self.dz,
             z_limit,
+            columns: RowColumns {
+                world: self.x.world,
+                n: self.x.n,
+                step: self.x.step,
+                eye_x: self.eye.x,
+                #[cfg(feature = "antialias")]
+                shift_x: self.shift_x,
+                count: self.x.n.saturating_add(1),
+            },
         }
     }
 

@@ -252,6 +252,13 @@ pub fn closest_hit_in_row<S: Scalar>(
                 nearest.take_row_at(index, *t);
                 None
             }
+            #[cfg(feature = "plan")]
+            &RowTest::AtAcross { t, lo, hi, .. } => {
+                if ray.dir.x >= lo && ray.dir.x <= hi {
+                    nearest.take_row_at(index, t);
+                }
+                None
+            }
             // Only `f64` rows have these (see `Plane::row_test`): the other types' code has
             // no use for them (flash on the Cortex-M0).
             #[cfg(feature = "plan")]
@@ -326,6 +333,14 @@ pub(crate) fn closest_hits_in_row<S: Scalar, L: BatchRay<S>>(
             (RowTest::At(t), _) => {
                 for (nearest, _) in lanes {
                     nearest.take_row_at(index, *t);
+                }
+            }
+            #[cfg(feature = "plan")]
+            (&RowTest::AtAcross { t, lo, hi, .. }, _) => {
+                for (nearest, ray) in lanes {
+                    if ray.dir.x >= lo && ray.dir.x <= hi {
+                        nearest.take_row_at(index, t);
+                    }
                 }
             }
             // Only the rays that can see the plane (see `behind`).
@@ -495,7 +510,7 @@ pub fn row_plane<S: Scalar>(row: &[RowEntry<S>]) -> Option<(usize, S, bool)> {
                 }
             }
             #[cfg(feature = "plan")]
-            RowTest::Plane(_) => tested = true,
+            RowTest::Plane(_) | RowTest::AtAcross { .. } => tested = true,
             #[cfg(all(feature = "plan", feature = "batch"))]
             RowTest::Across { .. } | RowTest::PlaneAcross { .. } => tested = true,
             RowTest::Hits => tested = true,

@@ -702,7 +702,7 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         }
         if !spans.is_empty() {
             set_spanned(tests, spans, first);
-            shading.set_tested(tests);
+            shading.set_tested(tests, first);
         }
         first
     }
@@ -761,14 +761,20 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         let last = usize::from(left).saturating_add(width).saturating_sub(1);
         let kept = self.plan.kept();
         for (position, entry) in tests.iter().enumerate() {
-            if entry.test != RowTest::Hits {
-                continue;
-            }
-            let Ok(found) = kept.binary_search(&entry.index) else {
-                continue;
-            };
-            let Some(&span) = self.plan.columns().get(found) else {
-                continue;
+            let span = match entry.test {
+                RowTest::Hits => {
+                    let Ok(found) = kept.binary_search(&entry.index) else {
+                        continue;
+                    };
+                    let Some(&span) = self.plan.columns().get(found) else {
+                        continue;
+                    };
+                    span
+                }
+                // Its own run: the segments outside it can then be the row's plane's.
+                #[cfg(feature = "plan")]
+                RowTest::AtAcross { first, last, .. } => RowSpan { first, last },
+                _ => continue,
             };
             if span.first <= left && usize::from(span.last) >= last {
                 continue;
@@ -897,10 +903,16 @@ fn bytes<S: Scalar>(c: Vec3<S>) -> Rgb888 {
 const MAX_SPANNED: usize = 4;
 
 /// Turns the entries with column `spans` to tests where column `first` (and the segment it
-/// starts) lies in their span, to misses where it does not.
+/// starts) lies in their span, to misses where it does not. A run of columns
+/// ([`RowTest::AtAcross`]) stays: it tells the segments itself (see
+/// [`RowShading::set_tested`]).
 fn set_spanned<S: Scalar>(tests: &mut [RowEntry<S>], spans: &[(u8, RowSpan)], first: u16) {
     for &(position, span) in spans {
         if let Some(entry) = tests.get_mut(usize::from(position)) {
+            #[cfg(feature = "plan")]
+            if matches!(entry.test, RowTest::AtAcross { .. }) {
+                continue;
+            }
             entry.test = if span.contains(first) {
                 RowTest::Hits
             } else {

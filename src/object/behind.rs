@@ -276,6 +276,7 @@ mod tests {
             dy: 0.0,
             dz: -8.0,
             z_limit: 0.01,
+            columns: crate::camera::RowColumns::none(),
         };
         let mut row: heapless::Vec<RowEntry<f64>, 4> = objects
             .iter()

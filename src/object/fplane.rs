@@ -3,6 +3,8 @@
 
 use super::plane::{pick, plane_normal, plane_surface, signed};
 use super::{Hit, Object, ObjectVTable, Shape, object_material};
+#[cfg(feature = "plan")]
+use super::{RowOrigin, RowTest};
 use crate::error::{Attr, Entity, ErrorKind};
 use crate::material::MaterialId;
 use crate::object::plane::{Plane, PlaneDef};
@@ -240,6 +242,80 @@ impl<S: Scalar> Rect<S> {
         (qx >= S::ZERO && qx <= w && qy >= S::ZERO && qy <= h).then_some(t)
     }
 
+    /// The test of a row's primary rays when the plane's normal has no x part, in the
+    /// types that leave primary rays unnormalised: every ray meets the plane at the same
+    /// `t` (see [`Plane::row_test`]), and the rays that meet the rectangle are one run of
+    /// columns, found by bisection with the test each ray would make.
+    ///
+    /// Why a run: along the row only the ray's `x` changes, and it grows with the column.
+    /// The hit point's `x` (`eye.x + dir.x t`, `t > 0`), its offset from the corner and
+    /// each local coordinate (`u . d`, `v . d`, whose other products are the same along
+    /// the row) are then monotone in the column, since each rounded operation is monotone
+    /// in each operand (saturation too). So each of `q >= 0` and `q <= size` holds on a
+    /// prefix or a suffix of the row, which its values at the two ends tell, and their
+    /// intersection is a run. Values beyond the type's range at either end (where an
+    /// infinity could meet a zero or another infinity) leave each ray to its test.
+    #[cfg(feature = "plan")]
+    pub fn row_test(&self, origin: &RowOrigin<S>) -> RowTest<S> {
+        let columns = &origin.columns;
+        let count = columns.count();
+        if S::COURSE_ORDER || self.plane.unit_normal.x != S::ZERO || count == 0 {
+            return RowTest::Hits;
+        }
+        let ray = |column| {
+            Ray::new(
+                origin.eye,
+                Vec3::new(columns.dir_x(column), origin.dy, origin.dz),
+            )
+        };
+        let t = match self.plane.nearest_by_axis(&ray(0), S::UNBOUNDED) {
+            Some(t) if origin.eye.z + origin.dz * t <= origin.z_limit => t,
+            _ => return RowTest::Miss,
+        };
+        let local = |column| self.local(ray(column).at(t));
+        let last = count - 1;
+        // At either end, the hit point and its coordinates within the range.
+        let ends = [0, last].map(|column| {
+            let p = ray(column).at(t);
+            let [qx, qy] = self.local(p);
+            let finite = ![p.x, p.y, p.z, qx, qy].into_iter().any(S::is_beyond_range);
+            finite.then_some([qx, qy])
+        });
+        let [Some(at_first), Some(at_last)] = ends else {
+            return RowTest::Hits;
+        };
+        if t.is_beyond_range() {
+            return RowTest::Hits;
+        }
+        // The run `first..end` of columns whose rays meet the rectangle.
+        let (mut first, mut end) = (0, count);
+        for (axis, size) in [(0, self.dimensions[0]), (1, self.dimensions[1])] {
+            let pick = |[qx, qy]: [S; 2]| if axis == 0 { qx } else { qy };
+            let q = |column| pick(local(column));
+            // Each bound holds on a prefix or a suffix of the row: its ends tell which (or
+            // that it holds everywhere or nowhere); only a bound that changes is bisected.
+            for lower in [true, false] {
+                let holds = |q: S| if lower { q >= S::ZERO } else { q <= size };
+                match (holds(pick(at_first)), holds(pick(at_last))) {
+                    (true, true) => {}
+                    (false, false) => return RowTest::Miss,
+                    (false, true) => first = first.max(first_holding(last, |c| holds(q(c)))),
+                    (true, false) => end = end.min(first_holding(last, |c| !holds(q(c)))),
+                }
+            }
+        }
+        if first >= end {
+            return RowTest::Miss;
+        }
+        RowTest::AtAcross {
+            t,
+            lo: columns.dir_x(first),
+            hi: columns.dir_x(end - 1),
+            first,
+            last: end - 1,
+        }
+    }
+
     /// [`nearest`](Self::nearest) with the plane's `N.point - N.base` given (see
     /// [`Plane::nearest_from`]). (Written out, not shared with `nearest`: the shadow
     /// rays' `hits` is inlined better so.) Always inlined into the batch's row loop.
@@ -373,6 +449,22 @@ pub fn fplane_print<S: Scalar>(
     write::footer(out)
 }
 
+/// The first column of `1..=last` where `holds` does, for a `holds` that stays true once
+/// it is, false at column 0 and true at `last`: a bisection, about `log2(last)` calls.
+#[cfg(feature = "plan")]
+fn first_holding(last: u16, holds: impl Fn(u16) -> bool) -> u16 {
+    let (mut lo, mut hi) = (1, last);
+    while lo < hi {
+        let mid = lo + (hi - lo) / 2;
+        if holds(mid) {
+            hi = mid;
+        } else {
+            lo = mid + 1;
+        }
+    }
+    lo
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -419,6 +511,128 @@ mod tests {
                 .intersect(&ray([2.0, 6.0, -2.0], [0.0, -1.0, -1.0]))
                 .is_some()
         );
+    }
+
+    /// A row's run of columns ([`Rect::row_test`]) against each ray's own test, for the
+    /// rays as the row makes them (plain and shifted for anti-aliasing).
+    #[cfg(feature = "plan")]
+    mod row_run {
+        use super::*;
+        use crate::camera::{Camera, CameraDef};
+        use crate::scalar::I16F16;
+        use proptest::prelude::*;
+
+        /// Checks every ray of row `y`: the row test's answer is `hits` with the z rule.
+        /// Returns how many rays met the rectangle.
+        fn check<S: Scalar>(
+            def: &RectDef,
+            camera: &CameraDef<'_>,
+            y: u16,
+            shift: [f64; 2],
+        ) -> Result<usize, TestCaseError> {
+            let (Ok(rect), Ok(camera)) = (
+                Rect::<S>::build(def, 1.0),
+                Camera::<S>::build(camera, 1024, 1.0),
+            ) else {
+                return Ok(0);
+            };
+            let z_limit = S::from_f64(0.01);
+            #[cfg(feature = "antialias")]
+            let rays = camera.shifted_row_rays(y, 0, shift.map(S::from_f64));
+            #[cfg(not(feature = "antialias"))]
+            let rays = {
+                let _ = shift;
+                camera.row_rays(y, 0)
+            };
+            let origin = rays.origin(z_limit);
+            let test = rect.row_test(&origin);
+            let mut met = 0;
+            for (column, ray) in (0u16..).zip(rays) {
+                let Some(ray) = ray else { continue };
+                prop_assert_eq!(origin.columns.dir_x(column), ray.dir.x);
+                let hit = rect
+                    .nearest(&ray, S::UNBOUNDED)
+                    .filter(|&t| ray.base.z + ray.dir.z * t <= z_limit);
+                let row = match test {
+                    RowTest::Miss => None,
+                    RowTest::AtAcross {
+                        t,
+                        lo,
+                        hi,
+                        first,
+                        last,
+                    } => {
+                        let inside = ray.dir.x >= lo && ray.dir.x <= hi;
+                        prop_assert_eq!(inside, first <= column && column <= last);
+                        inside.then_some(t)
+                    }
+                    RowTest::Hits => hit,
+                    other => return Err(TestCaseError::fail(format!("{other:?}"))),
+                };
+                prop_assert_eq!(row, hit, "column {}", column);
+                met += usize::from(hit.is_some());
+            }
+            Ok(met)
+        }
+
+        fn unit_in_yz() -> impl Strategy<Value = [f64; 3]> {
+            prop_oneof![
+                Just([0.0, 1.0, 0.0]),
+                Just([0.0, 0.0, 1.0]),
+                Just([0.0, -1.0, 1.0]),
+                (-1.0f64..1.0, -1.0f64..1.0).prop_map(|(y, z)| [0.0, y, z]),
+            ]
+        }
+
+        fn xdir() -> impl Strategy<Value = [f64; 3]> {
+            prop_oneof![
+                Just([1.0, 0.0, 0.0]),
+                Just([-1.0, 0.0, 0.0]),
+                Just([0.0, 1.0, 0.0]),
+                prop::array::uniform3(-1.0f64..1.0),
+            ]
+        }
+
+        proptest! {
+            #![proptest_config(ProptestConfig::with_cases(400))]
+            #[test]
+            fn runs_are_each_rays_test(
+                normal in unit_in_yz(),
+                xdir in xdir(),
+                point in [-6.0f64..10.0, -4.0f64..8.0, -12.0f64..1.0],
+                size in [0.05f64..9.0, 0.05f64..9.0],
+                eye in [-4.0f64..12.0, -4.0f64..10.0, 0.5f64..10.0],
+                width in 2u32..200,
+                y in 0u16..60,
+                shift in [-0.05f64..0.05, -0.05f64..0.05],
+            ) {
+                let def = RectDef::new(normal, point, xdir, size);
+                let camera = CameraDef::new("c", [width, 60], [8.0, 6.0], eye);
+                check::<f32>(&def, &camera, y, shift)?;
+                check::<I16F16>(&def, &camera, y, shift)?;
+            }
+        }
+
+        /// Rectangles cut by the row on both sides, on one side and not at all, with a
+        /// pixel centre exactly on an edge (texplane1's wall, whose edges lie on columns).
+        #[test]
+        fn runs_end_where_the_rays_test_ends() {
+            let camera = CameraDef::new("c", [640, 480], [8.0, 6.0], [4.0, 3.0, 8.0]);
+            for (corner, width) in [(-1.0, 6.0), (2.0, 2.0), (-20.0, 40.0), (5.0, 1.0)] {
+                let def = RectDef::new(
+                    [0.0, 0.0, 1.0],
+                    [corner, 0.0, -4.0],
+                    [1.0, 0.0, 0.0],
+                    [width, 6.0],
+                );
+                let mut met = 0;
+                for y in [0, 100, 240, 479] {
+                    met += check::<f32>(&def, &camera, y, [0.0; 2]).unwrap();
+                    met += check::<I16F16>(&def, &camera, y, [0.0; 2]).unwrap();
+                }
+                assert!(met > 0);
+            }
+        }
     }
 
     /// Every rectangle whose plane and axes lie along the coordinate axes (both signs of

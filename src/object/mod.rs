@@ -18,7 +18,7 @@ pub mod texplane;
 pub mod tiled_plane;
 
 use crate::camera::Camera;
-pub use crate::camera::RowOrigin;
+pub use crate::camera::{RowColumns, RowOrigin};
 use crate::error::{Attr, Entity, ErrorKind, Feature, Snippet};
 use crate::material::{Material, MaterialId};
 use crate::name::{Name, bounded};
@@ -130,6 +130,23 @@ pub enum RowTest<S> {
         lo: f32,
         /// The greatest, rounded up.
         hi: f32,
+    },
+    /// Every ray of the row whose direction's `x` lies in `lo..=hi` meets the object at
+    /// `t` (within the z rule), and no other ray of the row meets it: a rectangle whose
+    /// plane's normal has no x part (see [`Rect::row_test`](fplane::Rect::row_test)).
+    /// Not in `f64`, whose rays are normalised.
+    #[cfg(feature = "plan")]
+    AtAcross {
+        /// Where the rays meet the object.
+        t: S,
+        /// The least `dir.x` of a ray that meets it.
+        lo: S,
+        /// The greatest.
+        hi: S,
+        /// The first column of the run (as the row counts them: 0 the left).
+        first: u16,
+        /// The last.
+        last: u16,
     },
     /// Each ray is tested with the kind's `hits`.
     Hits,

@@ -316,20 +316,24 @@ pub fn plane_row_test<S: Scalar>(obj: &Object<S>, origin: &RowOrigin<S>) -> RowT
     }
 }
 
-/// `row_test` of the finite plane kinds (finite plane, textured plane): each ray tested,
-/// with the plane's `N.point - N.eye` worked out once (their bounds depend on `x`).
+/// `row_test` of the finite plane kinds (finite plane, textured plane): in `f64` each ray
+/// tested, with the plane's `N.point - N.eye` worked out once (their bounds depend on
+/// `x`); in the other types, where the normal has no x part, the run of columns that meets
+/// the rectangle ([`Rect::row_test`]), except when built for size.
 pub fn rect_row_test<S: Scalar>(obj: &Object<S>, origin: &RowOrigin<S>) -> RowTest<S> {
-    let plane = match obj.shape() {
-        Shape::FPlane(rect) => &rect.plane,
-        Shape::TexPlane(textured) => &textured.rect.plane,
+    let rect = match obj.shape() {
+        Shape::FPlane(rect) => rect,
+        Shape::TexPlane(textured) => &textured.rect,
         _ => return RowTest::Hits,
     };
-    // Row tests come from the plan only; see `Plane::row_test` for why only `f64`.
+    // Row tests come from the plan only.
     #[cfg(feature = "plan")]
     if S::COURSE_ORDER {
-        return RowTest::Plane(plane.distance_from(origin.eye));
+        return RowTest::Plane(rect.plane.distance_from(origin.eye));
+    } else if !cfg!(microray_small) {
+        return rect.row_test(origin);
     }
-    let _ = (plane, origin);
+    let _ = (rect, origin);
     RowTest::Hits
 }
 

@@ -349,7 +349,7 @@ mod tests {
                     return Ok(());
                 };
                 let eye = Vec3::new(eye[0], eye[1], eye[2]);
-                let origin = RowOrigin { eye, dy, dz, z_limit: f64::INFINITY };
+                let origin = RowOrigin { eye, dy, dz, z_limit: f64::INFINITY, columns: crate::camera::RowColumns::none() };
                 let Shape::Sphere(sphere) = obj.shape() else { unreachable!() };
                 let test = sphere_row_test(&obj, &origin);
                 // The row's rays through `xs`, and through points just beside the outline:
@@ -389,6 +389,7 @@ mod tests {
                 dy: 0.0,
                 dz: -4.0,
                 z_limit: 0.01,
+                columns: crate::camera::RowColumns::none(),
             };
             let RowTest::Across { lo, hi } = sphere_row_test(&obj, &origin) else {
                 panic!("no bounds");

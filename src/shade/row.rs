@@ -30,7 +30,7 @@
 use super::{MAX_DEPTH, Onward, Path, Shader, add_diffuse, glint, in_cone, reflect, with_ambient};
 use crate::hits::{Among, closest_hit_among, closest_hit_in_row, object_blocks, row_plane};
 use crate::light::Light;
-use crate::object::{Hit, RowEntry, RowOrigin, Surface};
+use crate::object::{Hit, RowEntry, RowOrigin, RowTest, Surface};
 use crate::plan::ShadowBoxes;
 use crate::ray::Ray;
 use crate::scalar::Scalar;
@@ -126,11 +126,23 @@ impl<S: Scalar> RowShading<'_, S> {
 }
 
 impl<S: Scalar> RowShading<'_, S> {
-    /// Takes whether some objects are tested ray by ray from `tests`, the row's tests with
-    /// the entries that cannot be met in a segment of it turned to misses: the levels are
-    /// the same along the whole row (they come from its planes at one `t`).
-    pub(crate) fn set_tested(&mut self, tests: &[RowEntry<S>]) {
-        self.tested = row_plane(tests).is_some_and(|(_, _, tested)| tested);
+    /// Takes whether some objects are tested ray by ray in the segment of the row that
+    /// starts at column `first` from `tests`, the row's tests with the entries that cannot
+    /// be met there turned to misses, and runs of columns ([`RowTest::AtAcross`]) that the
+    /// segment lies in or out of whole: the levels are the same along the whole row (they
+    /// come from its planes at one `t`).
+    pub(crate) fn set_tested(&mut self, tests: &[RowEntry<S>], first: u16) {
+        #[cfg(not(feature = "plan"))]
+        let _ = first;
+        self.tested = row_plane(tests).is_some()
+            && tests.iter().any(|entry| match entry.test {
+                RowTest::Miss | RowTest::At(_) => false,
+                #[cfg(feature = "plan")]
+                RowTest::AtAcross {
+                    first: from, last, ..
+                } => from <= first && first <= last,
+                _ => true,
+            });
     }
 
     /// Sets which lights' shadow rays the pixels of row `y`, columns `first..=last`, test

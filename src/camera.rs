@@ -45,7 +45,6 @@ pub struct RowColumns<S> {
 
 impl<S: Scalar> RowColumns<S> {
     /// No columns (a row whose rays are not known by column).
-    #[cfg(test)]
     pub(crate) fn none() -> Self {
         Self {
             world: S::ZERO,
@@ -118,15 +117,25 @@ impl<S: Scalar> RowRays<S> {
             dy: self.dy,
             dz: self.dz,
             z_limit,
-            columns: RowColumns {
-                world: self.x.world,
-                n: self.x.n,
-                step: self.x.step,
-                eye_x: self.eye.x,
-                #[cfg(feature = "antialias")]
-                shift_x: self.shift_x,
-                count: self.x.n.saturating_add(1),
+            // Built for size, no kind reads them (flash).
+            columns: if cfg!(microray_small) {
+                RowColumns::none()
+            } else {
+                self.columns()
             },
+        }
+    }
+
+    /// The row's columns, for [`origin`](Self::origin).
+    fn columns(&self) -> RowColumns<S> {
+        RowColumns {
+            world: self.x.world,
+            n: self.x.n,
+            step: self.x.step,
+            eye_x: self.eye.x,
+            #[cfg(feature = "antialias")]
+            shift_x: self.shift_x,
+            count: self.x.n.saturating_add(1),
         }
     }
 

@@ -772,7 +772,7 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
                     span
                 }
                 // Its own run: the segments outside it can then be the row's plane's.
-                #[cfg(feature = "plan")]
+                #[cfg(all(feature = "plan", not(microray_small)))]
                 RowTest::AtAcross { first, last, .. } => RowSpan { first, last },
                 _ => continue,
             };
@@ -909,7 +909,7 @@ const MAX_SPANNED: usize = 4;
 fn set_spanned<S: Scalar>(tests: &mut [RowEntry<S>], spans: &[(u8, RowSpan)], first: u16) {
     for &(position, span) in spans {
         if let Some(entry) = tests.get_mut(usize::from(position)) {
-            #[cfg(feature = "plan")]
+            #[cfg(all(feature = "plan", not(microray_small)))]
             if matches!(entry.test, RowTest::AtAcross { .. }) {
                 continue;
             }

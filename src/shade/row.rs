@@ -130,19 +130,18 @@ impl<S: Scalar> RowShading<'_, S> {
     /// starts at column `first` from `tests`, the row's tests with the entries that cannot
     /// be met there turned to misses, and runs of columns ([`RowTest::AtAcross`]) that the
     /// segment lies in or out of whole: the levels are the same along the whole row (they
-    /// come from its planes at one `t`).
+    /// come from its planes at one `t`, which no segment changes).
     pub(crate) fn set_tested(&mut self, tests: &[RowEntry<S>], first: u16) {
-        #[cfg(not(feature = "plan"))]
+        #[cfg(any(not(feature = "plan"), microray_small))]
         let _ = first;
-        self.tested = row_plane(tests).is_some()
-            && tests.iter().any(|entry| match entry.test {
-                RowTest::Miss | RowTest::At(_) => false,
-                #[cfg(feature = "plan")]
-                RowTest::AtAcross {
-                    first: from, last, ..
-                } => from <= first && first <= last,
-                _ => true,
-            });
+        self.tested = tests.iter().any(|entry| match entry.test {
+            RowTest::Miss | RowTest::At(_) => false,
+            #[cfg(all(feature = "plan", not(microray_small)))]
+            RowTest::AtAcross {
+                first: from, last, ..
+            } => from <= first && first <= last,
+            _ => true,
+        });
     }
 
     /// Sets which lights' shadow rays the pixels of row `y`, columns `first..=last`, test

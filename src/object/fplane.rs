@@ -268,9 +268,13 @@ impl<S: Scalar> Rect<S> {
                 Vec3::new(columns.dir_x(column), origin.dy, origin.dz),
             )
         };
-        let t = match self.plane.nearest_by_axis(&ray(0), S::UNBOUNDED) {
+        // A finite limit, and no hit below it left to each ray's test: with an infinite
+        // one, the RP2040's ROM float routines (the Pico's `f32` build) lost the
+        // showcase's picture (a product with infinity is not IEEE's there).
+        let t = match self.plane.nearest_by_axis(&ray(0), S::from_i32(1 << 20)) {
             Some(t) if origin.eye.z + origin.dz * t <= origin.z_limit => t,
-            _ => return RowTest::Miss,
+            Some(_) => return RowTest::Miss,
+            None => return RowTest::Hits,
         };
         let local = |column| self.local(ray(column).at(t));
         let last = count - 1;

@@ -511,19 +511,6 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
 /// A row's objects with their row tests (`OBJECTS` slots).
 type RowTests<S, const OBJECTS: usize> = heapless::Vec<RowEntry<S>, OBJECTS>;
 
-/// What a row's pixels share, borrowed where the row's preparation lives (the object list
-/// holds `OBJECTS` slots: not worth copying).
-enum RowWork<'a, 'r, S: Scalar> {
-    /// The plan's objects and their row tests, and the row's shading when its pixels share
-    /// a plane.
-    Planned(&'a [RowEntry<S>], Option<&'a RowShading<'r, S>>),
-    /// Every object, every pixel alone (no plan).
-    All,
-    /// No object in the row (a scene's sky): every pixel black, with no ray made (the
-    /// host's, with `batch`; the firmware keeps its flash).
-    Empty,
-}
-
 impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
     /// Renders image row `y` (0 the top) from column `left` into `target`, as many pixels
     /// as `row` holds: every row of [`render_area`](Self::render_area) and the progressive
@@ -543,8 +530,9 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
     {
         let camera_y = self.camera.row_from_top(y);
         let rays = self.camera.row_rays(camera_y, left);
-        // What `with_row` and `fill_row` do for the progressive order's blocks, written
-        // out: through them, every row costs 1-2 % more (tplane4, spotlight on the M4F).
+        // `shade_every` with a stride of 1, written out: through it, every row cost 1-2 %
+        // more (tplane4, spotlight on the M4F, when it was the progressive order's
+        // `with_row` and `fill_row`).
         if self.prepare_row(camera_y, &rays, tests) {
             let spans = self.column_spans(tests, left, row.len());
             self.shade_segments(shader, camera_y, left, tests, &spans, rays, row);
@@ -790,61 +778,79 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         spans
     }
 
-    /// Calls `f` with the primary rays of image row `y` (0 the top) and what its pixels
-    /// share (see [`RowWork`]), prepared here and lent: the progressive order's blocks.
-    #[inline(always)]
-    fn with_row<'r, R>(
+    /// The pixels of camera row `camera_y` at columns `first`, `first + stride`, ... into
+    /// `row` (as many as it holds), shaded as [`render_row`](Self::render_row) shades a
+    /// whole row: the row's tests prepared once, then segment by segment (the columns each
+    /// object can be met in, the shadow boxes), each segment's pixels with rays of their
+    /// own, the same as the row's. The progressive order's sparse rows.
+    pub(crate) fn shade_every<C: From<Rgb888> + Copy>(
         &self,
-        shader: &Shader<'r, S>,
-        y: u16,
+        shader: &Shader<'_, S>,
+        camera_y: u16,
+        first: u16,
+        stride: u16,
         tests: &mut RowTests<S, OBJECTS>,
-        f: impl FnOnce(RowRays<S>, RowWork<'_, 'r, S>) -> R,
-    ) -> R {
-        let camera_y = self.camera.row_from_top(y);
-        let rays = self.camera.row_rays(camera_y, 0);
-        let shading;
-        // One call of `f` (inlined: a call per kind of row would copy it).
-        let work = if !self.prepare_row(camera_y, &rays, tests) {
-            RowWork::All
-        } else if cfg!(feature = "batch")
+        row: &mut [C],
+    ) {
+        let stride = stride.max(1);
+        let rays = self.camera.row_rays_every(camera_y, first, stride);
+        if !self.prepare_row(camera_y, &rays, tests) {
+            for (slot, ray) in row.iter_mut().zip(rays) {
+                *slot = self.color(shader, ray, Among::All).into();
+            }
+            return;
+        }
+        let width = usize::from(self.camera.width());
+        let spans = self.column_spans(tests, 0, width);
+        let mut shading = self.row_shading(shader, tests, &rays);
+        // No object in the row (a scene's sky), as `shade_segments` has it.
+        #[cfg(feature = "batch")]
+        if shading.is_none()
             && self.shading == Shading::Color
             && self.plan.in_row(camera_y).next().is_none()
         {
-            RowWork::Empty
-        } else {
-            shading = self.row_shading(shader, tests, &rays);
-            RowWork::Planned(tests, shading.as_ref())
+            row.fill(Rgb888::new(0, 0, 0).into());
+            return;
+        }
+        let plane = shading.as_ref().and_then(RowShading::first_plane);
+        let boxes = self.boxes().zip(plane);
+        // The pixels before `column`: pixel `i` is column `first + i stride`.
+        let (first_column, step) = (usize::from(first), usize::from(stride));
+        let count = row.len();
+        let before = |column: usize| {
+            column
+                .saturating_sub(first_column)
+                .div_ceil(step)
+                .min(count)
         };
-        f(rays, work)
-    }
-
-    /// Shades the rays `rays` of a row prepared as `work` into `row` (as many as it holds).
-    #[inline]
-    fn fill_row<C: From<Rgb888> + Copy>(
-        &self,
-        shader: &Shader<'_, S>,
-        work: RowWork<'_, '_, S>,
-        rays: RowRays<S>,
-        row: &mut [C],
-    ) {
-        match work {
-            // A plane at the same `t` for every ray of the row.
-            RowWork::Planned(tests, Some(shading)) => shade_row(shader, shading, tests, rays, row),
-            #[cfg(feature = "batch")]
-            RowWork::Planned(tests, None) if self.shading == Shading::Color => {
-                shade_batches(shader, tests, rays, row);
+        let mut from = 0;
+        while from < width {
+            let to = if cfg!(microray_small) {
+                width
+            } else {
+                next_cut(&spans, boxes, camera_y, 0, width, from)
+            };
+            let (start, end) = (before(from), before(to));
+            if let (true, Some(part)) = (start < end, row.get_mut(start..end)) {
+                self.set_segment(
+                    tests,
+                    &spans,
+                    boxes,
+                    shading.as_mut(),
+                    camera_y,
+                    0,
+                    from,
+                    to,
+                );
+                let column = first_column + start * step;
+                let rays = self.camera.row_rays_every(
+                    camera_y,
+                    u16::try_from(column).unwrap_or(u16::MAX),
+                    stride,
+                );
+                self.shade_part(shader, tests, shading.as_ref(), rays, part);
             }
-            RowWork::Planned(tests, None) => {
-                for (slot, ray) in row.iter_mut().zip(rays) {
-                    *slot = self.color_in_row(shader, ray, tests).into();
-                }
-            }
-            RowWork::All => {
-                for (slot, ray) in row.iter_mut().zip(rays) {
-                    *slot = self.color(shader, ray, Among::All).into();
-                }
-            }
-            RowWork::Empty => row.fill(Rgb888::new(0, 0, 0).into()),
+            from = to;
         }
     }
 }

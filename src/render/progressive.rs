@@ -11,14 +11,15 @@
 //! Each pixel is shaded as the plain order shades it: a row's plan (its object list, its
 //! objects' row tests and, where its pixels share a plane, its row shading) is prepared
 //! once per row and pass, and the row's traced pixels are shaded by the plain order's row
-//! loop into the row buffer before any is drawn. A row of a pass's own grid (every block
+//! loop, segment by segment as the plain order cuts its rows, into the row buffer before
+//! any is drawn. A row of a pass's own grid (every block
 //! of it new) goes out as one `fill_contiguous` of its blocks side by side; the others'
 //! blocks one `fill_solid` each; the last pass's rows traced whole as `render_area`'s rows,
 //! and its single pixels as one `draw_iter` a row. Pass 1 traces 1/64 of the pixels, pass 2
 //! 3/64, pass 3 12/64; the last pass traces the odd rows whole (1/2) and the odd pixels of
 //! the even rows (1/4).
 
-use super::{RenderError, Rendered, Renderer, RowWork};
+use super::{RenderError, Rendered, Renderer, RowTests};
 use crate::scalar::Scalar;
 use crate::shade::{Shader, ShadowCache};
 use core::ops::ControlFlow;
@@ -145,29 +146,27 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
                 } else {
                     (block, coarser)
                 };
-                self.with_row(&shader, y, &mut tests, |_, work| {
-                    let traced = Traced {
-                        y,
-                        first,
-                        stride,
-                        block,
-                    };
-                    self.row_of_blocks(&shader, target, traced, work, row)
-                })?;
+                let traced = Traced {
+                    y,
+                    first,
+                    stride,
+                    block,
+                };
+                self.row_of_blocks(&shader, target, traced, &mut tests, row)?;
             }
             y = y.saturating_add(block);
         }
         Ok(())
     }
 
-    /// Traces the pixels of a row `traced` names (the row prepared as `work`) into `row`,
-    /// then fills a block from each.
+    /// Traces the pixels of a row `traced` names into `row` (its tests prepared in
+    /// `tests`), then fills a block from each.
     fn row_of_blocks<D>(
         &self,
         shader: &Shader<'_, S>,
         target: &mut D,
         traced: Traced,
-        work: RowWork<'_, '_, S>,
+        tests: &mut RowTests<S, OBJECTS>,
         row: &mut [D::Color],
     ) -> Result<(), RenderError<D::Error>>
     where
@@ -182,11 +181,10 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         } = traced;
         let camera_y = self.camera.row_from_top(y);
         let stride = stride.max(1);
-        // Only the traced pixels' rays, the same as the row's, shaded as whole rows are.
-        let rays = self.camera.row_rays_every(camera_y, first, stride);
+        // Only the traced pixels, shaded as whole rows are.
         let count = usize::from(self.camera.width().saturating_sub(first).div_ceil(stride));
         let colors = row.get_mut(..count).unwrap_or_default();
-        self.fill_row(shader, work, rays, colors);
+        self.shade_every(shader, camera_y, first, stride, tests, colors);
         let columns = (first..self.camera.width()).step_by(usize::from(stride));
         let (width, height) = (self.camera.width(), self.camera.height());
         let rows = block.min(height.saturating_sub(y));

@@ -319,7 +319,8 @@ pub fn plane_row_test<S: Scalar>(obj: &Object<S>, origin: &RowOrigin<S>) -> RowT
 /// `row_test` of the finite plane kinds (finite plane, textured plane): in `f64` each ray
 /// tested, with the plane's `N.point - N.eye` worked out once (their bounds depend on
 /// `x`); in the other types, where the normal has no x part, the run of columns that meets
-/// the rectangle ([`Rect::row_test`]), except when built for size.
+/// the rectangle ([`Rect::row_test`](super::fplane::Rect::row_test)), except when built for
+/// size.
 pub fn rect_row_test<S: Scalar>(obj: &Object<S>, origin: &RowOrigin<S>) -> RowTest<S> {
     let rect = match obj.shape() {
         Shape::FPlane(rect) => rect,

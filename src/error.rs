@@ -706,6 +706,13 @@ pub enum ErrorKind {
     SecondCamera,
     /// A scene has exactly one camera.
     NoCamera,
+    /// A change names an object, light or material by a number the scene does not have.
+    NoSuchIndex {
+        /// Which list.
+        what: Collection,
+        /// The number asked for (from 0, in definition order).
+        index: u16,
+    },
     /// A length that must be above zero (radius, world size, rectangle size).
     NotPositive {
         /// The attribute.
@@ -950,6 +957,12 @@ impl fmt::Display for ErrorKind {
                 write!(f, "a {entity} named {name} is already defined")
             }
             ErrorKind::SecondCamera => write!(f, "second camera (a scene has exactly one)"),
+            ErrorKind::NoSuchIndex { what, index } => {
+                write!(
+                    f,
+                    "the scene's {what} have no number {index} (counted from 0)"
+                )
+            }
             ErrorKind::NoCamera => {
                 write!(f, "no camera (a scene needs exactly one `camera` block)")
             }

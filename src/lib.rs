@@ -40,6 +40,7 @@
 //! | `reflection`, `transparency`, `glint` | in `full` | mirror rays (`specular`), transmission and filtered shadows (`transparency`), Blinn-Phong glints (`shininess`; needs `reflection`) |
 //! | `projector`, `revsurf` | in `full` | projectors (lights that shine a texture) and surfaces of revolution |
 //! | `antialias` | in `full` | anti-aliasing at fixed sample positions (`render::Antialias`): a grid of samples per pixel, or only on edges |
+//! | `animate` | in `full` | moving pictures: objects, lights and materials replaced between frames ([`Scene::replace_object`] and its kin) and the screen region each change can touch ([`region`]), so a frame re-traces only that, byte for byte the full frame |
 //! | `warnings` | in `full` | warnings about ill-posed scenes ([`Scene::warnings`], [`warning`]): coincident surfaces, a light on a surface or at the eye, a surface through the eye, the eye inside an object |
 //! | `sdl` | no | `examples/simulator.rs` opens an SDL window |
 //!
@@ -109,7 +110,7 @@
 //! One concept per module: [`scalar`], [`vec3`], [`ray`], [`camera`], [`material`], [`light`],
 //! [`texture`], [`object`] (one file per kind), [`scene`], `parse`, `print`, [`plan`] (what a
 //! scene needs, per-row object lists), [`shade`] (the course's illumination), [`render`] (rows
-//! into a `DrawTarget`), [`error`].
+//! into a `DrawTarget`), `region` (what a change to the scene can touch), [`error`].
 #![cfg_attr(not(feature = "std"), no_std)]
 #![deny(unsafe_code)]
 #![deny(missing_docs)]
@@ -153,6 +154,8 @@ pub mod plan;
 pub mod print;
 pub mod range;
 pub mod ray;
+#[cfg(feature = "animate")]
+pub mod region;
 pub mod render;
 pub mod scalar;
 pub mod scene;

@@ -120,6 +120,26 @@ fn push<T, const N: usize>(
     list.push(item).map_err(|_| capacity_error(what, N))
 }
 
+/// Puts `item` in place of entry `index` of a list and returns the entry it replaces.
+#[cfg(feature = "animate")]
+fn replace<T, const N: usize>(
+    list: &mut Vec<T, N>,
+    index: usize,
+    item: T,
+    what: Collection,
+) -> Result<T, ErrorKind> {
+    let slot = list.get_mut(index).ok_or_else(|| no_such(what, index))?;
+    Ok(core::mem::replace(slot, item))
+}
+
+#[cfg(feature = "animate")]
+fn no_such(what: Collection, index: usize) -> ErrorKind {
+    ErrorKind::NoSuchIndex {
+        what,
+        index: u16::try_from(index).unwrap_or(u16::MAX),
+    }
+}
+
 fn capacity_error(what: Collection, capacity: usize) -> ErrorKind {
     ErrorKind::CapacityExceeded {
         what,
@@ -206,6 +226,54 @@ impl<
         }
         let light = Light::build(def, self.scale, |n| self.find_texture(n))?;
         push(&mut self.lights, light, Collection::Lights)
+    }
+
+    /// Replaces object `index` (from 0, in definition order) with `def`, built as
+    /// [`add_object`](Self::add_object) builds one, and returns the object it replaces: the
+    /// old state a [`Region`](crate::region::Region) needs. On an error the scene is
+    /// unchanged.
+    #[cfg(feature = "animate")]
+    pub fn replace_object(
+        &mut self,
+        index: usize,
+        def: &ObjectDef<'_>,
+    ) -> Result<Object<S>, ErrorKind> {
+        let object = Object::build(
+            def,
+            |n| self.find_material(n),
+            |n| self.find_texture(n),
+            self.scale,
+        )?;
+        replace(&mut self.objects, index, object, Collection::Objects)
+    }
+
+    /// Replaces light `index` with `def` and returns the light it replaces (see
+    /// [`replace_object`](Self::replace_object)).
+    #[cfg(feature = "animate")]
+    pub fn replace_light(
+        &mut self,
+        index: usize,
+        def: &LightDef<'_>,
+    ) -> Result<Light<S>, ErrorKind> {
+        let light = Light::build(def, self.scale, |n| self.find_texture(n))?;
+        replace(&mut self.lights, index, light, Collection::Lights)
+    }
+
+    /// Replaces material `index` with `def`, which must keep its name (objects name it),
+    /// and returns the material it replaces.
+    #[cfg(feature = "animate")]
+    pub fn replace_material(
+        &mut self,
+        index: usize,
+        def: &MaterialDef<'_>,
+    ) -> Result<Material<S>, ErrorKind> {
+        let material = Material::build(def, self.scale)?;
+        let slot = self
+            .materials
+            .get_mut(index)
+            .filter(|m| m.name() == def.name)
+            .ok_or_else(|| no_such(Collection::Materials, index))?;
+        Ok(core::mem::replace(slot, material))
     }
 
     /// Adds a texture, decoding its PPM bytes; its name must be new.

@@ -27,7 +27,7 @@ const LAYERS: &[(&str, &[&str])] = &[
     (
         "scene, render plan, tree, compiled scenes",
         &[
-            "range", "scene", "capacity", "bvh", "hits", "plan", "compiled", "warning",
+            "range", "scene", "capacity", "bvh", "hits", "plan", "compiled", "warning", "region",
         ],
     ),
     ("shading", &["shade"]),

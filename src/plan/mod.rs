@@ -29,6 +29,8 @@ use heapless::Vec;
 
 mod shadows;
 pub use shadows::{BOXES, OCCLUDERS, ScreenBox, ShadowBoxes};
+#[cfg(feature = "animate")]
+pub(crate) use shadows::{shadow_on_plane, widened_vertices};
 
 /// Angular widening of every bound, in radians: far above the direction error of any number
 /// type microray has (about 1e-5 for Q16.16).
@@ -232,8 +234,41 @@ impl<const OBJECTS: usize> Plan<OBJECTS> {
     }
 }
 
+/// The rows and columns whose primary rays can reach `object` (its spans in a plan).
+#[cfg(feature = "animate")]
+pub(crate) fn footprint<S: Scalar>(camera: &Camera<S>, object: &Object<S>) -> ScreenBox {
+    ScreenBox {
+        rows: View::new(camera, false).rows_of(object, S::MIN_NORMAL),
+        columns: View::new(camera, true).rows_of(object, S::MIN_NORMAL),
+    }
+}
+
+/// The rows and columns whose primary rays can reach the hull of `points` (the whole
+/// screen where the hull holds the eye or spans half a turn).
+#[cfg(feature = "animate")]
+pub(crate) fn outline<S: Scalar>(camera: &Camera<S>, points: &[Vec3<f64>]) -> ScreenBox {
+    let (rows, columns) = (View::new(camera, false), View::new(camera, true));
+    ScreenBox {
+        rows: rows.span(rows.outline(points, S::MIN_NORMAL)),
+        columns: columns.span(columns.outline(points, S::MIN_NORMAL)),
+    }
+}
+
+/// The rows whose primary rays can reach an infinite plane, every column.
+#[cfg(feature = "animate")]
+pub(crate) fn plane_footprint<S: Scalar>(
+    camera: &Camera<S>,
+    plane: &crate::object::Plane<S>,
+) -> ScreenBox {
+    let rows = View::new(camera, false);
+    ScreenBox {
+        rows: rows.span(rows.plane(plane)),
+        columns: RowSpan::ALL,
+    }
+}
+
 /// The materials an object can show: its own, and a tiled plane's second one.
-fn materials_of<S: Scalar>(object: &Object<S>) -> [Option<u16>; 2] {
+pub(crate) fn materials_of<S: Scalar>(object: &Object<S>) -> [Option<u16>; 2] {
     let alternate = match object.shape() {
         Shape::TiledPlane(tiles) => Some(tiles.altmaterial),
         _ => None,

@@ -251,6 +251,50 @@ fn shadow_points<S: Scalar>(
     Some(())
 }
 
+/// The rows and columns where a primary ray can meet the infinite plane `plane` at a point
+/// whose shadow ray to a light at `l` crosses the polytope of `vertices` (from
+/// [`widened_vertices`]): nothing when the polytope lies beyond the light or beyond the
+/// plane, the hull of its vertices' projections when it lies between them (see the
+/// module's docs), and the plane's rows when it reaches past the light's height.
+#[cfg(feature = "animate")]
+pub(crate) fn shadow_on_plane<S: Scalar>(
+    camera: &Camera<S>,
+    l: Vec3<f64>,
+    vertices: &[Vec3<f64>; 8],
+    plane: &crate::object::Plane<S>,
+) -> ScreenBox {
+    const NOTHING: ScreenBox = ScreenBox {
+        rows: RowSpan::NONE,
+        columns: RowSpan::NONE,
+    };
+    let n = plane.unit_normal.to_f64();
+    let offset = plane.n_dot_point.to_f64();
+    let above = n.dot(l) - offset;
+    let side = if above > 0.0 { 1.0 } else { -1.0 };
+    let height = libm::fabs(above);
+    if !(height > 0.0) {
+        return super::plane_footprint(camera, plane);
+    }
+    let (mut past_light, mut past_plane, mut between) = (true, true, true);
+    let mut projected = [Vec3::ZERO; 8];
+    for (v, p) in vertices.iter().zip(projected.iter_mut()) {
+        let d = side * (n.dot(*v) - offset);
+        past_light &= d > height * (1.0 + NEARER);
+        past_plane &= d < 0.0;
+        between &= d < height * (1.0 - NEARER);
+        if between {
+            *p = l + (*v - l) * (height / (height - d));
+        }
+    }
+    if past_light || past_plane {
+        NOTHING
+    } else if between {
+        super::outline(camera, &projected)
+    } else {
+        super::plane_footprint(camera, plane)
+    }
+}
+
 /// Whether `object` is of a kind [`widened_vertices`] holds in a polytope.
 fn bounded<S: Scalar>(object: &Object<S>) -> bool {
     match object.shape() {
@@ -263,7 +307,7 @@ fn bounded<S: Scalar>(object: &Object<S>) -> bool {
 /// Into `vertices`, the vertices of a polytope holding `object` widened by the module's
 /// margins (seen from a light at `l`): a box about a ball, a slab about a panel; `None`
 /// for other kinds and for a panel nearly in line with the light.
-fn widened_vertices<S: Scalar>(
+pub(crate) fn widened_vertices<S: Scalar>(
     object: &Object<S>,
     l: Vec3<f64>,
     resolution: f64,

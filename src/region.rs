@@ -1,0 +1,434 @@
+//! The part of the screen a change to the scene can touch, worked out before tracing, so
+//! that a moving picture re-traces only that and stays byte for byte the full frame.
+//!
+//! A pixel's colour depends on its primary rays' first hits, the shadow rays from those
+//! hits to each light, and, where a hit is on a mirror or a transparent object, the rays
+//! that go on from there. So when object `O` changes (moves, changes size or material), a
+//! pixel can change only if
+//! - one of its primary rays can reach `O` before or after: `O`'s outline both times,
+//!   bounded as the render plan bounds an object's rows and columns;
+//! - its primary hit `P` lies where a shadow ray from `P` to some light `L` can cross `O`
+//!   before or after: the points `L + s (V - L)`, `s >= 1`, `V` in a polytope holding `O`
+//!   ([`crate::plan`]'s shadow polytope, widened for rounding). On an infinite plane those
+//!   points lie in the hull of the polytope's projection from `L` onto the plane; a bounded
+//!   object is taken whole (its outline) where its bounding sphere can meet that cone;
+//! - its primary hit is on a mirror or a transparent object: their outlines, whole.
+//!
+//! A light that changes can change anything it lights: the whole frame, as does a camera
+//! that changes. Every bound is conservative (`f64`, from the number type's own values,
+//! with the plan's margins); `tests/animate.rs` compares incremental frames with full ones
+//! in every number type.
+//!
+//! The region is a short list of disjoint screen rectangles whose capacity is part of the
+//! type, as with every list in microray: when it is full, the two rectangles whose union
+//! grows least are merged, so it always holds every pixel asked for.
+//!
+//! ```
+//! use microray::embedded_graphics::prelude::*;
+//! use microray::embedded_graphics::primitives::Rectangle;
+//! use microray::region::Region;
+//!
+//! let mut region = Region::<2>::new(Size::new(100, 80));
+//! region.add(Rectangle::new(Point::new(10, 10), Size::new(20, 20)));
+//! region.add(Rectangle::new(Point::new(25, 25), Size::new(10, 10)));
+//! region.add(Rectangle::new(Point::new(90, 70), Size::new(30, 30)));
+//! // The first two overlap: one rectangle. The third is clipped to the screen.
+//! let areas: Vec<Rectangle> = region.rectangles().collect();
+//! assert_eq!(areas, [
+//!     Rectangle::new(Point::new(10, 10), Size::new(25, 25)),
+//!     Rectangle::new(Point::new(90, 70), Size::new(10, 10)),
+//! ]);
+//! assert_eq!(region.pixels(), 25 * 25 + 10 * 10);
+//! ```
+
+use crate::bvh::bounds;
+use crate::camera::Camera;
+use crate::light::Light;
+use crate::material::Material;
+use crate::object::Object;
+use crate::plan::{self, ScreenBox};
+use crate::scalar::Scalar;
+use crate::scene::Scene;
+use crate::vec3::Vec3;
+use embedded_graphics::prelude::{Point, Size};
+use embedded_graphics::primitives::Rectangle;
+use heapless::Vec;
+
+/// Screen rectangles holding every pixel some changes can touch (see the module's docs);
+/// at most `N`, disjoint, or the whole frame.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Region<const N: usize> {
+    width: u16,
+    height: u16,
+    /// Pixels added around every rectangle (see [`with_border`](Self::with_border)).
+    border: u16,
+    whole: bool,
+    areas: Vec<Area, N>,
+}
+
+/// A rectangle of pixels, both ends included.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Area {
+    left: u16,
+    top: u16,
+    right: u16,
+    bottom: u16,
+}
+
+impl Area {
+    fn overlaps(&self, other: &Area) -> bool {
+        self.left <= other.right
+            && other.left <= self.right
+            && self.top <= other.bottom
+            && other.top <= self.bottom
+    }
+
+    fn union(&self, other: &Area) -> Area {
+        Area {
+            left: self.left.min(other.left),
+            top: self.top.min(other.top),
+            right: self.right.max(other.right),
+            bottom: self.bottom.max(other.bottom),
+        }
+    }
+
+    fn pixels(&self) -> u32 {
+        (u32::from(self.right - self.left) + 1) * (u32::from(self.bottom - self.top) + 1)
+    }
+
+    fn rectangle(&self) -> Rectangle {
+        Rectangle::new(
+            Point::new(i32::from(self.left), i32::from(self.top)),
+            Size::new(
+                u32::from(self.right - self.left) + 1,
+                u32::from(self.bottom - self.top) + 1,
+            ),
+        )
+    }
+}
+
+impl<const N: usize> Region<N> {
+    /// An empty region of a screen of `size` pixels (each side at most 65535).
+    pub fn new(size: Size) -> Self {
+        let side = |v: u32| u16::try_from(v).unwrap_or(u16::MAX);
+        Self {
+            width: side(size.width),
+            height: side(size.height),
+            border: 0,
+            whole: false,
+            areas: Vec::new(),
+        }
+    }
+
+    /// The same region, with `pixels` added around every rectangle added from now on:
+    /// 1 for [`Antialias::Adaptive`](crate::render::Antialias), which supersamples a pixel
+    /// by what its neighbours show.
+    pub fn with_border(self, pixels: u16) -> Self {
+        Self {
+            border: pixels,
+            ..self
+        }
+    }
+
+    /// Nothing again (the next frame's region).
+    pub fn clear(&mut self) {
+        self.whole = false;
+        self.areas.clear();
+    }
+
+    /// Whether no pixel is in the region.
+    pub fn is_empty(&self) -> bool {
+        !self.whole && self.areas.is_empty()
+    }
+
+    /// Whether the region is the whole frame.
+    pub fn is_whole(&self) -> bool {
+        self.whole
+    }
+
+    /// The whole frame.
+    pub fn add_whole(&mut self) {
+        self.whole = true;
+        self.areas.clear();
+    }
+
+    /// Adds a rectangle (widened by the border, clipped to the screen).
+    pub fn add(&mut self, rectangle: Rectangle) {
+        let Some(bottom_right) = rectangle.bottom_right() else {
+            return;
+        };
+        let (right, bottom) = (self.width.saturating_sub(1), self.height.saturating_sub(1));
+        let (top_left, border) = (rectangle.top_left, i64::from(self.border));
+        let (low, high) = (
+            (
+                i64::from(top_left.x) - border,
+                i64::from(top_left.y) - border,
+            ),
+            (
+                i64::from(bottom_right.x) + border,
+                i64::from(bottom_right.y) + border,
+            ),
+        );
+        if self.width == 0
+            || self.height == 0
+            || high.0 < 0
+            || high.1 < 0
+            || low.0 > i64::from(right)
+            || low.1 > i64::from(bottom)
+        {
+            return;
+        }
+        let clamp =
+            |v: i64, limit: u16| u16::try_from(v.clamp(0, i64::from(limit))).unwrap_or(limit);
+        self.push(Area {
+            left: clamp(low.0, right),
+            top: clamp(low.1, bottom),
+            right: clamp(high.0, right),
+            bottom: clamp(high.1, bottom),
+        });
+    }
+
+    /// The rectangles to trace, top to bottom in the order added; the whole frame as one.
+    pub fn rectangles(&self) -> impl Iterator<Item = Rectangle> + '_ {
+        let whole = Area {
+            left: 0,
+            top: 0,
+            right: self.width.saturating_sub(1),
+            bottom: self.height.saturating_sub(1),
+        };
+        let nonempty = self.width > 0 && self.height > 0;
+        let all = (self.whole && nonempty).then_some(whole);
+        all.into_iter()
+            .chain(self.areas.iter().copied().filter(|_| !self.whole))
+            .map(|a| a.rectangle())
+    }
+
+    /// How many pixels the region holds.
+    pub fn pixels(&self) -> u32 {
+        if self.whole {
+            u32::from(self.width) * u32::from(self.height)
+        } else {
+            self.areas.iter().map(Area::pixels).sum()
+        }
+    }
+
+    /// Adds a rectangle of pixels, merging it with those it overlaps; when the list is full,
+    /// with the one whose union with it is smallest.
+    fn push(&mut self, mut area: Area) {
+        if self.whole {
+            return;
+        }
+        loop {
+            if let Some(i) = self.areas.iter().position(|a| a.overlaps(&area)) {
+                area = area.union(&self.areas.swap_remove(i));
+                continue;
+            }
+            let Err(left_over) = self.areas.push(area) else {
+                return;
+            };
+            let grows = |a: &Area| a.union(&left_over).pixels() - a.pixels();
+            let closest = (0..self.areas.len()).min_by_key(|&i| self.areas.get(i).map(grows));
+            match closest {
+                Some(i) => area = left_over.union(&self.areas.swap_remove(i)),
+                // No room at all (`N` is 0): only the whole frame holds it.
+                None => return self.add_whole(),
+            }
+        }
+    }
+
+    /// Adds a box of the plan's rows (`y = 0` the bottom) and columns.
+    fn add_box(&mut self, screen: ScreenBox) {
+        let (rows, columns) = (screen.rows, screen.columns);
+        let top_row = self.height.saturating_sub(1);
+        if rows.first > rows.last || columns.first > columns.last || rows.first > top_row {
+            return;
+        }
+        let last = rows.last.min(top_row);
+        let right = columns.last.min(self.width.saturating_sub(1));
+        self.add(Rectangle::with_corners(
+            Point::new(i32::from(columns.first), i32::from(top_row - last)),
+            Point::new(i32::from(right), i32::from(top_row - rows.first)),
+        ));
+    }
+
+    /// Adds what a change of object `index` can touch: `old` is the object as it was (what
+    /// [`Scene::replace_object`] returned), the scene holds it as it is now. Call it after
+    /// every change of the frame is made: it reads the other objects as they are now.
+    pub fn add_object_change<'a, S: Scalar + 'a>(
+        &mut self,
+        scene: impl Into<Parts<'a, S>>,
+        index: usize,
+        old: &Object<S>,
+    ) {
+        let scene = scene.into();
+        let Some(new) = scene.objects.get(index) else {
+            return self.add_whole();
+        };
+        self.add_object_state(&scene, old);
+        self.add_object_state(&scene, new);
+        self.add_seen_beyond(&scene);
+    }
+
+    /// Adds what a change of material `index` can touch: every object that shows it, as
+    /// [`add_object_change`](Self::add_object_change) does (a transparent material also
+    /// filters shadows).
+    pub fn add_material_change<'a, S: Scalar + 'a>(
+        &mut self,
+        scene: impl Into<Parts<'a, S>>,
+        index: usize,
+    ) {
+        let shows = |object: &&Object<S>| {
+            plan::materials_of(object)
+                .into_iter()
+                .flatten()
+                .any(|m| usize::from(m) == index)
+        };
+        let scene = scene.into();
+        for object in scene.objects.iter().filter(shows) {
+            self.add_object_state(&scene, object);
+        }
+        self.add_seen_beyond(&scene);
+    }
+
+    /// Adds what a change of a light can touch: everything it may light, which is taken as
+    /// the whole frame.
+    pub fn add_light_change(&mut self) {
+        self.add_whole();
+    }
+
+    /// Adds what a change of the camera touches: the whole frame.
+    pub fn add_camera_change(&mut self) {
+        self.add_whole();
+    }
+
+    /// `object`'s outline and where its shadows can fall, from every light.
+    fn add_object_state<S: Scalar>(&mut self, scene: &Parts<'_, S>, object: &Object<S>) {
+        let camera = scene.camera;
+        self.add_box(plan::footprint(camera, object));
+        let mut vertices = [Vec3::ZERO; 8];
+        for light in scene.lights {
+            if self.whole {
+                return;
+            }
+            let l = light.location.to_f64();
+            if plan::widened_vertices(object, l, S::MIN_NORMAL, &mut vertices).is_none() {
+                // Not bounded (an infinite plane), or a panel in line with the light.
+                return self.add_whole();
+            }
+            let cone = bounding_sphere(&vertices);
+            for receiver in scene.objects {
+                self.add_shadow_on(camera, l, &vertices, cone, receiver);
+            }
+        }
+    }
+
+    /// Where the shadow of the polytope `vertices` from a light at `l` can fall on
+    /// `receiver`.
+    fn add_shadow_on<S: Scalar>(
+        &mut self,
+        camera: &Camera<S>,
+        l: Vec3<f64>,
+        vertices: &[Vec3<f64>; 8],
+        cone: (Vec3<f64>, f64),
+        receiver: &Object<S>,
+    ) {
+        if let Some(plane) = receiver.infinite_plane() {
+            return self.add_box(plan::shadow_on_plane(camera, l, vertices, plane));
+        }
+        let reach = match bounds(receiver) {
+            Some((low, high)) => {
+                let center = (low + high) * 0.5;
+                let radius = (high - low).length() * 0.5;
+                let margin = 2e-3 * (radius + center.length()) + 256.0 * S::MIN_NORMAL;
+                Some((center, radius + margin))
+            }
+            None => None,
+        };
+        if reach.is_none_or(|reach| may_meet(l, cone, reach)) {
+            self.add_box(plan::footprint(camera, receiver));
+        }
+    }
+
+    /// The outlines of every mirror and transparent object: what their pixels show comes
+    /// from rays that may meet anything.
+    fn add_seen_beyond<S: Scalar>(&mut self, scene: &Parts<'_, S>) {
+        let onward = |m: u16| {
+            scene.materials.get(usize::from(m)).is_some_and(|m| {
+                (cfg!(feature = "reflection") && m.reflects())
+                    || (cfg!(feature = "transparency") && m.transparency != S::ZERO)
+            })
+        };
+        for object in scene.objects {
+            if plan::materials_of(object).into_iter().flatten().any(onward) {
+                self.add_box(plan::footprint(scene.camera, object));
+            }
+        }
+    }
+}
+
+/// What a region reads of a scene (any [`Scene`] gives it with `&scene` or `.into()`).
+#[derive(Clone, Copy, Debug)]
+pub struct Parts<'a, S: Scalar> {
+    /// The camera.
+    pub camera: &'a Camera<S>,
+    /// The materials.
+    pub materials: &'a [Material<S>],
+    /// The lights.
+    pub lights: &'a [Light<S>],
+    /// The objects.
+    pub objects: &'a [Object<S>],
+}
+
+impl<
+    'a,
+    S: Scalar,
+    const OBJECTS: usize,
+    const MATERIALS: usize,
+    const LIGHTS: usize,
+    const TEXTURES: usize,
+    const MAX_WIDTH: usize,
+> From<&'a Scene<'_, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>> for Parts<'a, S>
+{
+    fn from(scene: &'a Scene<'_, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>) -> Self {
+        Self {
+            camera: scene.camera(),
+            materials: scene.materials(),
+            lights: scene.lights(),
+            objects: scene.objects(),
+        }
+    }
+}
+
+/// A sphere holding `points`: their mean and the farthest one's distance from it.
+fn bounding_sphere(points: &[Vec3<f64>; 8]) -> (Vec3<f64>, f64) {
+    let sum = points.iter().fold(Vec3::ZERO, |s, &p| s + p);
+    let center = sum * 0.125;
+    let radius = points
+        .iter()
+        .map(|&p| (p - center).length())
+        .fold(0.0, f64::max);
+    (center, radius)
+}
+
+/// Whether a point `P` of the ball `receiver` can see a light at `l` across the ball
+/// `object`: whether `receiver` meets the cone of the rays from `l` through `object`,
+/// beyond the nearest point of `object`.
+fn may_meet(l: Vec3<f64>, object: (Vec3<f64>, f64), receiver: (Vec3<f64>, f64)) -> bool {
+    let (a, b) = (object.0 - l, receiver.0 - l);
+    let (da, db) = (a.length(), b.length());
+    let (ra, rb) = (object.1, receiver.1);
+    // The light inside either ball: no cone to go by.
+    if !(da > ra && db > rb) {
+        return true;
+    }
+    // All of the receiver nearer the light than any of the object.
+    if db + rb < da - ra {
+        return false;
+    }
+    // The angle between the centres against the sum of the half-angles both subtend.
+    let (sa, sb) = (ra / da, rb / db);
+    let (ca, cb) = (libm::sqrt(1.0 - sa * sa), libm::sqrt(1.0 - sb * sb));
+    let cos_sum = ca * cb - sa * sb;
+    let cos_between = a.dot(b) / (da * db);
+    !(cos_between < cos_sum - 1e-9)
+}

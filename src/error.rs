@@ -123,6 +123,10 @@ pub enum Entity {
     TexPlane,
     Projector,
     RevSurf,
+    Animation,
+    Line,
+    Orbit,
+    Bounce,
 }
 
 /// A cargo feature a scene can need: object kinds and shading stages beyond planes,
@@ -147,6 +151,8 @@ pub enum Feature {
     Transparency,
     /// Glints: a material's `shininess`.
     Glint,
+    /// Moving pictures: `animation`, `line`, `orbit` and `bounce` blocks.
+    Animate,
 }
 
 impl Feature {
@@ -162,6 +168,7 @@ impl Feature {
             Feature::Reflection => "reflection",
             Feature::Transparency => "transparency",
             Feature::Glint => "glint",
+            Feature::Animate => "animate",
         }
     }
 
@@ -177,6 +184,7 @@ impl Feature {
             Feature::Reflection => "mirror reflection (`specular`)",
             Feature::Transparency => "transparency (`transparency`)",
             Feature::Glint => "glints (`shininess`)",
+            Feature::Animate => "moving pictures (`animation`, `line`, `orbit`, `bounce`)",
         }
     }
 
@@ -193,6 +201,7 @@ impl Feature {
             Feature::Reflection => cfg!(feature = "reflection"),
             Feature::Transparency => cfg!(feature = "transparency"),
             Feature::Glint => cfg!(feature = "glint"),
+            Feature::Animate => cfg!(feature = "animate"),
         }
     }
 
@@ -228,6 +237,10 @@ impl Entity {
                 Location, Emissivity, Normal, Point, Xdir, Dimensions, Texname, Mode,
             ],
             Entity::RevSurf => &[Material, Surfer, Base, Direction, Height],
+            Entity::Animation => &[Frames],
+            Entity::Line => &[Target, By],
+            Entity::Orbit => &[Target, Center, Direction, Turns],
+            Entity::Bounce => &[Target, Height, Bounces],
         }
     }
 
@@ -235,7 +248,7 @@ impl Entity {
     pub const MAX_ATTRIBUTES: usize = 8;
 
     /// Every entity, in the order the error messages list them.
-    pub const ALL: [Entity; 12] = [
+    pub const ALL: [Entity; 16] = [
         Entity::Camera,
         Entity::Material,
         Entity::Light,
@@ -248,6 +261,10 @@ impl Entity {
         Entity::TexPlane,
         Entity::Projector,
         Entity::RevSurf,
+        Entity::Animation,
+        Entity::Line,
+        Entity::Orbit,
+        Entity::Bounce,
     ];
 
     /// The keyword that starts the block.
@@ -265,6 +282,10 @@ impl Entity {
             Entity::TexPlane => "texplane",
             Entity::Projector => "projector",
             Entity::RevSurf => "revsurf",
+            Entity::Animation => "animation",
+            Entity::Line => "line",
+            Entity::Orbit => "orbit",
+            Entity::Bounce => "bounce",
         }
     }
 }
@@ -305,11 +326,16 @@ pub enum Attr {
     Base,
     Direction,
     Height,
+    Frames,
+    Target,
+    By,
+    Turns,
+    Bounces,
 }
 
 impl Attr {
     /// The number of attributes.
-    pub const COUNT: usize = 26;
+    pub const COUNT: usize = 31;
 
     /// The attribute's keyword.
     pub const fn keyword(self) -> &'static str {
@@ -340,6 +366,11 @@ impl Attr {
             Attr::Base => "base",
             Attr::Direction => "direction",
             Attr::Height => "height",
+            Attr::Frames => "frames",
+            Attr::Target => "target",
+            Attr::By => "by",
+            Attr::Turns => "turns",
+            Attr::Bounces => "bounces",
         }
     }
 }
@@ -358,6 +389,7 @@ pub enum Collection {
     Materials,
     Lights,
     Textures,
+    Motions,
 }
 
 impl fmt::Display for Collection {
@@ -367,6 +399,7 @@ impl fmt::Display for Collection {
             Collection::Materials => "materials",
             Collection::Lights => "lights",
             Collection::Textures => "textures",
+            Collection::Motions => "motions",
         })
     }
 }
@@ -384,6 +417,8 @@ pub enum Range {
     ZeroOrOne,
     /// `1`, `2` or `3` (the surfaces of revolution's profiles).
     Surfer,
+    /// `1 <= v <= 65535` (frames, bounces).
+    Count,
 }
 
 impl fmt::Display for Range {
@@ -394,6 +429,7 @@ impl fmt::Display for Range {
             Range::HalfTurn => "between 0 and 180 degrees",
             Range::ZeroOrOne => "0 or 1",
             Range::Surfer => "1, 2 or 3",
+            Range::Count => "between 1 and 65535",
         })
     }
 }
@@ -706,6 +742,15 @@ pub enum ErrorKind {
     SecondCamera,
     /// A scene has exactly one camera.
     NoCamera,
+    /// A motion names an object or light that is not defined before it.
+    UndefinedTarget {
+        /// The name.
+        name: Snippet,
+    },
+    /// A second `animation` block (a scene has at most one).
+    SecondAnimation,
+    /// Motions without an `animation` block, which gives the number of frames.
+    NoAnimation,
     /// A change names an object, light or material by a number the scene does not have.
     NoSuchIndex {
         /// Which list.
@@ -796,6 +841,7 @@ impl ErrorKind {
             | ErrorKind::ImageTooTall { .. } => Some(Attr::Pixeldim),
             ErrorKind::XdirParallelToNormal => Some(Attr::Xdir),
             ErrorKind::UndefinedTexture { .. } => Some(Attr::Texname),
+            ErrorKind::UndefinedTarget { .. } => Some(Attr::Target),
             ErrorKind::TransparentWithoutDiffuse => Some(Attr::Transparency),
             ErrorKind::Texture { .. } => Some(Attr::Filename),
             ErrorKind::NotCompiledIn { attr, .. } => attr,
@@ -957,6 +1003,19 @@ impl fmt::Display for ErrorKind {
                 write!(f, "a {entity} named {name} is already defined")
             }
             ErrorKind::SecondCamera => write!(f, "second camera (a scene has exactly one)"),
+            ErrorKind::UndefinedTarget { name } => {
+                write!(
+                    f,
+                    "no object or light named {name} (a motion moves an object or light defined before it)"
+                )
+            }
+            ErrorKind::SecondAnimation => {
+                write!(f, "second `animation` block (a scene has at most one)")
+            }
+            ErrorKind::NoAnimation => write!(
+                f,
+                "motions but no `animation` block (it gives the number of frames: `animation clip {{ frames 48 }}`)"
+            ),
             ErrorKind::NoSuchIndex { what, index } => {
                 write!(
                     f,

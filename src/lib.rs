@@ -131,6 +131,8 @@
     )
 )]
 
+#[cfg(feature = "animate")]
+pub mod animation;
 pub mod bvh;
 pub mod camera;
 pub mod capacity;

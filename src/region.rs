@@ -46,7 +46,8 @@ use crate::camera::Camera;
 use crate::light::Light;
 use crate::material::Material;
 use crate::object::Object;
-use crate::plan::{self, ScreenBox};
+use crate::object::Plane;
+use crate::plan::{self, OnPlane, ScreenBox};
 use crate::scalar::Scalar;
 use crate::scene::Scene;
 use crate::vec3::Vec3;
@@ -303,8 +304,7 @@ impl<const N: usize> Region<N> {
 
     /// `object`'s outline and where its shadows can fall, from every light.
     fn add_object_state<S: Scalar>(&mut self, scene: &Parts<'_, S>, object: &Object<S>) {
-        let camera = scene.camera;
-        self.add_box(plan::footprint(camera, object));
+        self.add_box(plan::footprint(scene.camera, object));
         let mut vertices = [Vec3::ZERO; 8];
         for light in scene.lights {
             if self.whole {
@@ -317,7 +317,7 @@ impl<const N: usize> Region<N> {
             }
             let cone = bounding_sphere(&vertices);
             for receiver in scene.objects {
-                self.add_shadow_on(camera, l, &vertices, cone, receiver);
+                self.add_shadow_on(scene, l, &vertices, cone, receiver);
             }
         }
     }
@@ -326,14 +326,32 @@ impl<const N: usize> Region<N> {
     /// `receiver`.
     fn add_shadow_on<S: Scalar>(
         &mut self,
-        camera: &Camera<S>,
+        scene: &Parts<'_, S>,
         l: Vec3<f64>,
         vertices: &[Vec3<f64>; 8],
         cone: (Vec3<f64>, f64),
         receiver: &Object<S>,
     ) {
+        let camera = scene.camera;
         if let Some(plane) = receiver.infinite_plane() {
-            return self.add_box(plan::shadow_on_plane(camera, l, vertices, plane));
+            let mut points = [Vec3::ZERO; 8];
+            let screen = match plan::shadow_on_plane(l, vertices, plane, &mut points) {
+                OnPlane::Nowhere => return,
+                OnPlane::Anywhere => plan::plane_footprint(camera, plane),
+                OnPlane::Within => {
+                    let Some(polygon) = Polygon::in_plane(plane, &points) else {
+                        return self.add_box(plan::plane_footprint(camera, plane));
+                    };
+                    let polygon = polygon.in_light(scene, l, receiver);
+                    if polygon.len == 0 {
+                        return;
+                    }
+                    let mut corners = [Vec3::ZERO; POLYGON];
+                    let corners = polygon.corners(&mut corners);
+                    plan::outline(camera, corners)
+                }
+            };
+            return self.add_box(screen);
         }
         let reach = match bounds(receiver) {
             Some((low, high)) => {
@@ -377,6 +395,8 @@ pub struct Parts<'a, S: Scalar> {
     pub lights: &'a [Light<S>],
     /// The objects.
     pub objects: &'a [Object<S>],
+    /// The z rule's limit (see [`Scene::z_limit`]).
+    pub z_limit: f64,
 }
 
 impl<
@@ -395,8 +415,214 @@ impl<
             materials: scene.materials(),
             lights: scene.lights(),
             objects: scene.objects(),
+            z_limit: scene.z_limit().to_f64(),
         }
     }
+}
+
+/// The most corners a shadow's polygon keeps.
+const POLYGON: usize = 24;
+
+/// A convex polygon in a plane, counter-clockwise in the plane's coordinates `(x, y)`:
+/// `origin + x u + y v`.
+#[derive(Clone, Copy)]
+struct Polygon {
+    origin: Vec3<f64>,
+    u: Vec3<f64>,
+    v: Vec3<f64>,
+    points: [[f64; 2]; POLYGON],
+    len: usize,
+}
+
+impl Polygon {
+    /// The hull of `points`, which lie on `plane`; `None` for a plane the basis fails on.
+    fn in_plane<S: Scalar>(plane: &Plane<S>, points: &[Vec3<f64>; 8]) -> Option<Self> {
+        let n = plane.unit_normal.to_f64();
+        let origin = n * plane.n_dot_point.to_f64();
+        // The axis least along the normal gives the plane's first direction.
+        let (ax, ay, az) = (libm::fabs(n.x), libm::fabs(n.y), libm::fabs(n.z));
+        let axis = if ax <= ay && ax <= az {
+            Vec3::new(1.0, 0.0, 0.0)
+        } else if ay <= az {
+            Vec3::new(0.0, 1.0, 0.0)
+        } else {
+            Vec3::new(0.0, 0.0, 1.0)
+        };
+        let u = n.cross(axis);
+        let length = u.length();
+        if !(length > 0.0) {
+            return None;
+        }
+        let u = u * (1.0 / length);
+        let v = n.cross(u);
+        let mut flat = [[0.0; 2]; 8];
+        for (f, p) in flat.iter_mut().zip(points) {
+            let d = *p - origin;
+            *f = [d.dot(u), d.dot(v)];
+        }
+        let mut polygon = Self {
+            origin,
+            u,
+            v,
+            points: [[0.0; 2]; POLYGON],
+            len: 0,
+        };
+        polygon.set_hull(&mut flat);
+        Some(polygon)
+    }
+
+    /// The polygon less the points that an opaque infinite plane of the scene hides from
+    /// the light at `l`: a shadow ray from there crosses that plane first, whatever else
+    /// is in its way (the light on one side, the point clearly on the other, the crossing
+    /// clearly within the z rule).
+    fn in_light<S: Scalar>(self, scene: &Parts<'_, S>, l: Vec3<f64>, receiver: &Object<S>) -> Self {
+        let opaque = |m: u16| {
+            scene
+                .materials
+                .get(usize::from(m))
+                .is_some_and(|m| m.transparency == S::ZERO)
+        };
+        let mut polygon = self;
+        for object in scene.objects {
+            let Some(plane) = object.infinite_plane() else {
+                continue;
+            };
+            if core::ptr::eq(object, receiver)
+                || !plan::materials_of(object).into_iter().flatten().all(opaque)
+            {
+                continue;
+            }
+            let n = plane.unit_normal.to_f64();
+            let offset = plane.n_dot_point.to_f64();
+            let reach = polygon.reach().max(norm_1(l)) + 1.0;
+            let margin = 2e-3 * reach + 256.0 * S::MIN_NORMAL;
+            let above = n.dot(l) - offset;
+            if !(libm::fabs(above) > margin) {
+                continue;
+            }
+            let (side, height) = (if above > 0.0 { 1.0 } else { -1.0 }, libm::fabs(above));
+            // Kept: near or on the light's side of the plane (`d(P) >= -margin`, `d` the
+            // distance on the light's side)...
+            let lit = polygon.clipped(n * side, margin - side * offset);
+            // ... or where the crossing `C = (h P - d(P) L) / (h - d(P))` may break the z
+            // rule: `h (P.z - zl) - d(P) (L.z - zl) > -margin (h + |L.z - zl| + 1)`.
+            let lz = l.z - scene.z_limit;
+            let a = Vec3::new(0.0, 0.0, height) - n * (side * lz);
+            let b = -height * scene.z_limit
+                + side * offset * lz
+                + margin * (height + libm::fabs(lz) + 1.0);
+            let near = polygon.clipped(a, b);
+            if let Some(kept) = lit.union(&near) {
+                polygon = kept;
+            }
+        }
+        polygon
+    }
+
+    /// The part where `a . P + b >= 0` (Sutherland and Hodgman's step).
+    fn clipped(&self, a: Vec3<f64>, b: f64) -> Self {
+        let (a2, b2) = ([a.dot(self.u), a.dot(self.v)], a.dot(self.origin) + b);
+        let f = |p: [f64; 2]| a2[0] * p[0] + a2[1] * p[1] + b2;
+        let mut out = Self { len: 0, ..*self };
+        let corners = self.points.get(..self.len).unwrap_or(&[]);
+        for (i, &p) in corners.iter().enumerate() {
+            let q = corners.get((i + 1) % self.len).copied().unwrap_or(p);
+            let (fp, fq) = (f(p), f(q));
+            if fp >= 0.0 {
+                out.push(p);
+            }
+            if (fp >= 0.0) != (fq >= 0.0) {
+                let t = fp / (fp - fq);
+                out.push([p[0] + (q[0] - p[0]) * t, p[1] + (q[1] - p[1]) * t]);
+            }
+        }
+        out
+    }
+
+    /// The hull of both (in the same plane); `None` when the corners do not fit.
+    fn union(&self, other: &Self) -> Option<Self> {
+        let mut all = [[0.0; 2]; 2 * POLYGON];
+        let count = self.len + other.len;
+        let mut slots = all.iter_mut();
+        for (slot, p) in (&mut slots).zip(self.points.iter().take(self.len)) {
+            *slot = *p;
+        }
+        for (slot, p) in slots.zip(other.points.iter().take(other.len)) {
+            *slot = *p;
+        }
+        let mut union = Self { len: 0, ..*self };
+        union.set_hull(all.get_mut(..count)?);
+        (union.len <= POLYGON).then_some(union)
+    }
+
+    /// Adds a corner (dropped past the capacity: callers keep below it).
+    fn push(&mut self, p: [f64; 2]) {
+        if let Some(slot) = self.points.get_mut(self.len) {
+            *slot = p;
+            self.len += 1;
+        }
+    }
+
+    /// Sets the corners to the convex hull of `points` (Andrew's monotone chain; the
+    /// points are sorted in place).
+    fn set_hull(&mut self, points: &mut [[f64; 2]]) {
+        points.sort_unstable_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+        self.len = 0;
+        let turn = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| {
+            (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+        };
+        // Lower chain left to right, then upper chain right to left.
+        for pass in 0..2 {
+            let start = self.len;
+            let ordered: &mut dyn Iterator<Item = &[f64; 2]> = if pass == 0 {
+                &mut points.iter()
+            } else {
+                &mut points.iter().rev()
+            };
+            for &p in ordered {
+                while self.len >= start + 2 {
+                    let (Some(&o), Some(&a)) =
+                        (self.points.get(self.len - 2), self.points.get(self.len - 1))
+                    else {
+                        break;
+                    };
+                    if turn(o, a, p) > 0.0 {
+                        break;
+                    }
+                    self.len -= 1;
+                }
+                self.push(p);
+            }
+            // The last of each chain is the first of the other.
+            self.len = self.len.saturating_sub(1);
+        }
+        // All the points one: that point.
+        if let (0, Some(&p)) = (self.len, points.first()) {
+            self.push(p);
+        }
+    }
+
+    /// The largest `|p|_1` of the corners.
+    fn reach(&self) -> f64 {
+        let mut corners = [Vec3::ZERO; POLYGON];
+        self.corners(&mut corners)
+            .iter()
+            .map(|&p| norm_1(p))
+            .fold(0.0, f64::max)
+    }
+
+    /// The corners in space, into `out`.
+    fn corners<'o>(&self, out: &'o mut [Vec3<f64>; POLYGON]) -> &'o [Vec3<f64>] {
+        for (o, p) in out.iter_mut().zip(self.points.iter().take(self.len)) {
+            *o = self.origin + self.u * p[0] + self.v * p[1];
+        }
+        out.get(..self.len).unwrap_or(&[])
+    }
+}
+
+/// `|v|_1`.
+fn norm_1(v: Vec3<f64>) -> f64 {
+    libm::fabs(v.x) + libm::fabs(v.y) + libm::fabs(v.z)
 }
 
 /// A sphere holding `points`: their mean and the farthest one's distance from it.

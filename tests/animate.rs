@@ -172,6 +172,65 @@ fn film() -> impl Strategy<Value = Film> {
         })
 }
 
+/// A stage: a floor (plain or tiled) and a back wall, balls and panels over the floor, and
+/// lights on both sides of the image plane: shadows on planes, and planes that hide parts
+/// of them from a light.
+fn stage() -> impl Strategy<Value = Film> {
+    let floor = (any::<bool>(), -2.5..1.5f64).prop_map(|(tiled, y)| Thing {
+        kind: if tiled { 1 } else { 0 },
+        normal: [0.0, 1.0, 0.0],
+        point: [0.0, y, 0.0],
+        size: 1.0,
+        material: 0,
+    });
+    let wall = (-14.0..-6.0f64).prop_map(|z| Thing {
+        kind: 0,
+        normal: [0.0, 0.0, 1.0],
+        point: [0.0, 0.0, z],
+        size: 1.0,
+        material: 1,
+    });
+    let prop = (
+        2..4u8,
+        normal(),
+        [-3.0..7.0f64, -0.5..4.0f64, -8.0..-1.0f64],
+        0.4..1.6f64,
+        0..4usize,
+    )
+        .prop_map(|(kind, normal, point, size, material)| Thing {
+            kind,
+            normal,
+            point,
+            size,
+            material,
+        });
+    let moves = (2..5usize, [-1.5..1.5f64, -1.5..1.5f64, -1.5..1.5f64])
+        .prop_map(|(i, d)| Change::Move(i, d));
+    (
+        floor,
+        wall,
+        prop::collection::vec(prop, 1..4),
+        prop::collection::vec(stuff(), 4),
+        prop::collection::vec(lamp(), 1..4),
+        [1.0..7.0f64, 1.0..5.0f64, 2.0..8.0f64],
+        prop::collection::vec(prop::collection::vec(moves, 1..3), 1..4),
+    )
+        .prop_map(|(floor, wall, props, mut stuffs, lamps, eye, frames)| {
+            // The floor and the wall opaque: planes that can hide shadows.
+            stuffs[0].3 = 0.0;
+            stuffs[1].3 = 0.0;
+            let mut things = vec![floor, wall];
+            things.extend(props);
+            Film {
+                things,
+                stuffs,
+                lamps,
+                eye,
+                frames,
+            }
+        })
+}
+
 /// What the region left out, over a run: pixels not re-traced, and pixels in all.
 #[derive(Default, Debug, Clone, Copy)]
 struct Saved {
@@ -312,6 +371,13 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(200))]
     #[test]
     fn incremental_frames_are_full_frames(film in film()) {
+        play::<f64>(&film)?;
+        play::<f32>(&film)?;
+        play::<I16F16>(&film)?;
+    }
+
+    #[test]
+    fn incremental_frames_on_a_stage_are_full_frames(film in stage()) {
         play::<f64>(&film)?;
         play::<f32>(&film)?;
         play::<I16F16>(&film)?;

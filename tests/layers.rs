@@ -27,7 +27,16 @@ const LAYERS: &[(&str, &[&str])] = &[
     (
         "scene, render plan, tree, compiled scenes",
         &[
-            "range", "scene", "capacity", "bvh", "hits", "plan", "compiled", "warning", "region",
+            "range",
+            "scene",
+            "capacity",
+            "bvh",
+            "hits",
+            "plan",
+            "compiled",
+            "warning",
+            "region",
+            "animation",
         ],
     ),
     ("shading", &["shade"]),

@@ -37,6 +37,18 @@ pub(crate) enum Item<'i> {
         filename: &'i str,
     },
     Object(ObjectDef<'i>),
+    /// The `animation` block: its name and number of frames.
+    #[cfg(feature = "animate")]
+    Animation {
+        name: &'i str,
+        frames: u16,
+    },
+    /// A motion block and the name of what it moves.
+    #[cfg(feature = "animate")]
+    Motion {
+        def: crate::animation::MotionDef<'i>,
+        target: &'i str,
+    },
 }
 
 impl Item<'_> {
@@ -48,6 +60,8 @@ impl Item<'_> {
             Item::Material(m) => extent.material(m),
             Item::Texture { .. } => {}
             Item::Object(o) => extent.object(o),
+            #[cfg(feature = "animate")]
+            Item::Animation { .. } | Item::Motion { .. } => {}
         }
     }
 }
@@ -333,6 +347,9 @@ pub(super) fn parse_into<
             Item::Texture { name, filename } => {
                 scene.add_texture_file(name, filename, &mut textures)
             }
+            // Not part of the scene: `parse_animation` reads them.
+            #[cfg(feature = "animate")]
+            Item::Animation { .. } | Item::Motion { .. } => Ok(()),
         };
         loaded.map_err(|kind| extent.explain::<S>(kind, scale))
     })?;
@@ -564,6 +581,9 @@ fn mode(block: &Block<'_>) -> Result<TextureMode, ErrorKind> {
 fn to_item<'i>(block: &Block<'i>) -> Result<Item<'i>, ErrorKind> {
     let name = block.name;
     let shape = match block.entity {
+        Entity::Animation | Entity::Line | Entity::Orbit | Entity::Bounce => {
+            return motion_item(block);
+        }
         Entity::Camera => {
             let mut pixeldim = [0.0; 2];
             block.fill(Attr::Pixeldim, &mut pixeldim)?;
@@ -679,4 +699,69 @@ fn to_item<'i>(block: &Block<'i>) -> Result<Item<'i>, ErrorKind> {
         material,
         shape,
     }))
+}
+
+/// An `animation` block or a motion block.
+#[cfg(feature = "animate")]
+fn motion_item<'i>(block: &Block<'i>) -> Result<Item<'i>, ErrorKind> {
+    use crate::animation::{MotionDef, Path};
+    let count = |attr: Attr| {
+        let v = block.number(attr)?;
+        if (1.0..=65535.0).contains(&v) {
+            Ok(v as u16)
+        } else {
+            Err(ErrorKind::OutOfRange {
+                attr,
+                range: Range::Count,
+            })
+        }
+    };
+    if block.entity == Entity::Animation {
+        return Ok(Item::Animation {
+            name: block.name,
+            frames: count(Attr::Frames)?,
+        });
+    }
+    let target = block.word(Attr::Target)?;
+    let path = match block.entity {
+        Entity::Line => {
+            let mut by = [0.0; 3];
+            block.fill(Attr::By, &mut by)?;
+            Path::Line { by }
+        }
+        Entity::Orbit => {
+            let (mut center, mut axis) = ([0.0; 3], [0.0; 3]);
+            block.fill(Attr::Center, &mut center)?;
+            block.fill(Attr::Direction, &mut axis)?;
+            if axis == [0.0; 3] {
+                return Err(ErrorKind::ZeroVector {
+                    attr: Attr::Direction,
+                });
+            }
+            let turns = block.number(Attr::Turns)?;
+            Path::Orbit {
+                center,
+                axis,
+                turns,
+            }
+        }
+        _ => Path::Bounce {
+            height: block.number(Attr::Height)?,
+            bounces: count(Attr::Bounces)?,
+        },
+    };
+    let def = MotionDef {
+        name: block.name,
+        path,
+    };
+    Ok(Item::Motion { def, target })
+}
+
+/// Without the `animate` feature, motion blocks are refused by name.
+#[cfg(not(feature = "animate"))]
+fn motion_item<'i>(_: &Block<'i>) -> Result<Item<'i>, ErrorKind> {
+    Err(ErrorKind::NotCompiledIn {
+        feature: Feature::Animate,
+        attr: None,
+    })
 }

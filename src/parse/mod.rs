@@ -12,6 +12,8 @@
 pub(crate) mod grammar;
 pub use crate::decimal as number;
 
+#[cfg(feature = "animate")]
+use crate::error::Snippet;
 use crate::error::{Attr, Entity, Error, TextureError};
 use crate::range::{Extent, NumberType, Target};
 use crate::scalar::Scalar;
@@ -86,6 +88,123 @@ pub fn parse_scene_with_scale<
     Ok(scene)
 }
 
+/// Reads a scene file's `animation` block and motions (see [`crate::animation`]); `None`
+/// when it has neither. Each motion's target is the first object, else the first light,
+/// of that name defined before the motion. Syntax errors anywhere in the file are
+/// reported; the scene itself is [`parse_scene`]'s (which skips these blocks).
+///
+/// ```
+/// use microray::parse::parse_animation;
+///
+/// let text = b"
+///     camera c { pixeldim 64 48 worlddim 8 6 viewpoint 4 3 6 }
+///     material white { diffuse 3 3 3 }
+///     sphere ball { material white center 4 1 -4 radius 1 }
+///     animation clip { frames 24 }
+///     bounce hop { target ball height 2 bounces 2 }
+/// ";
+/// let animation = parse_animation::<4>(text)?.ok_or("no animation")?;
+/// assert_eq!(animation.frames(), 24);
+/// assert_eq!(animation.offset(3, animation.motions()[0].target()), [0.0, 1.5, 0.0]);
+///
+/// let error = parse_animation::<4>(b"animation clip { frames 24 } line l { target nothing by 1 0 0 }")
+///     .unwrap_err();
+/// assert_eq!(error.to_string(),
+///     "1:39: no object or light named `nothing` (a motion moves an object or light defined before it)");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[cfg(feature = "animate")]
+pub fn parse_animation<const MOTIONS: usize>(
+    text: &[u8],
+) -> Result<Option<crate::animation::Animation<'_, MOTIONS>>, Error> {
+    use crate::animation::{Animation, MotionDef, Target};
+    use crate::error::{Collection, ErrorKind, Position};
+    use grammar::Item;
+    let mut animation: Option<Animation<'_, MOTIONS>> = None;
+    let mut motions = heapless::Vec::<(MotionDef<'_>, Target<'_>), MOTIONS>::new();
+    let mut items = 0usize;
+    grammar::walk(text, |item| {
+        items += 1;
+        match item {
+            Item::Animation { .. } if animation.is_some() => Err(ErrorKind::SecondAnimation),
+            Item::Animation { name, frames } => {
+                animation = Some(Animation::new(name, frames.into())?);
+                Ok(())
+            }
+            Item::Motion { def, target } => {
+                let target =
+                    target_before(text, target, items).ok_or(ErrorKind::UndefinedTarget {
+                        name: Snippet::new(target.as_bytes()),
+                    })?;
+                motions
+                    .push((def, target))
+                    .map_err(|_| ErrorKind::CapacityExceeded {
+                        what: Collection::Motions,
+                        capacity: u16::try_from(MOTIONS).unwrap_or(u16::MAX),
+                    })
+            }
+            _ => Ok(()),
+        }
+    })?;
+    let Some(mut animation) = animation else {
+        if motions.is_empty() {
+            return Ok(None);
+        }
+        return Err(Error::at(
+            ErrorKind::NoAnimation,
+            Position::of_offset(text, text.len()),
+        ));
+    };
+    for (def, target) in motions {
+        // Cannot fail: both lists hold `MOTIONS`, and the names were read as names.
+        animation
+            .add_motion(&def, target)
+            .map_err(|kind| Error::at(kind, Position::of_offset(text, text.len())))?;
+    }
+    Ok(Some(animation))
+}
+
+/// The first object, else the first light, named `name` among the first `items` blocks.
+#[cfg(feature = "animate")]
+fn target_before<'i>(
+    text: &'i [u8],
+    name: &str,
+    items: usize,
+) -> Option<crate::animation::Target<'i>> {
+    use crate::animation::Target;
+    use grammar::Item;
+    let (mut seen, mut objects, mut lights) = (0usize, 0u16, 0u16);
+    let (mut object, mut light) = (None, None);
+    // The blocks before were read without error: the walk cannot fail before `items`.
+    let _ = grammar::walk(text, |item| {
+        seen += 1;
+        if seen >= items {
+            // Stops the walk (the error is not reported).
+            return Err(crate::error::ErrorKind::NoAnimation);
+        }
+        match item {
+            Item::Object(def) => {
+                if object.is_none() && def.name == name {
+                    object = Some(Target::Object {
+                        index: objects,
+                        def,
+                    });
+                }
+                objects = objects.saturating_add(1);
+            }
+            Item::Light(def) => {
+                if light.is_none() && def.name == name {
+                    light = Some(Target::Light { index: lights, def });
+                }
+                lights = lights.saturating_add(1);
+            }
+            _ => {}
+        }
+        Ok(())
+    });
+    object.or(light)
+}
+
 pub use crate::texture::no_textures;
 
 /// The attributes an entity takes, in the order the printer writes them.
@@ -110,13 +229,13 @@ pub(crate) const fn values_of(attr: Attr) -> Values {
     use Attr::*;
     match attr {
         Pixeldim => Values::Integers(2),
-        Mode | Surfer => Values::Integers(1),
+        Mode | Surfer | Frames | Bounces => Values::Integers(1),
         Worlddim | Dimensions => Values::Numbers(2),
         Specular => Values::Channels,
-        Shininess | Transparency | Theta | Radius | Height => Values::Numbers(1),
+        Shininess | Transparency | Theta | Radius | Height | Turns => Values::Numbers(1),
         Viewpoint | Ambient | Diffuse | Location | Emissivity | Point | Normal | Center | Xdir
-        | Base | Direction => Values::Numbers(3),
-        Material | Altmaterial | Filename | Texname => Values::Word,
+        | Base | Direction | By => Values::Numbers(3),
+        Material | Altmaterial | Filename | Texname | Target => Values::Word,
     }
 }
 

@@ -30,7 +30,7 @@ use heapless::Vec;
 mod shadows;
 pub use shadows::{BOXES, OCCLUDERS, ScreenBox, ShadowBoxes};
 #[cfg(feature = "animate")]
-pub(crate) use shadows::{shadow_on_plane, widened_vertices};
+pub(crate) use shadows::{OnPlane, shadow_on_plane, widened_vertices};
 
 /// Angular widening of every bound, in radians: far above the direction error of any number
 /// type microray has (about 1e-5 for Q16.16).

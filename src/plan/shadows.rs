@@ -251,32 +251,37 @@ fn shadow_points<S: Scalar>(
     Some(())
 }
 
-/// The rows and columns where a primary ray can meet the infinite plane `plane` at a point
-/// whose shadow ray to a light at `l` crosses the polytope of `vertices` (from
-/// [`widened_vertices`]): nothing when the polytope lies beyond the light or beyond the
-/// plane, the hull of its vertices' projections when it lies between them (see the
-/// module's docs), and the plane's rows when it reaches past the light's height.
+/// Where on the infinite plane `plane` a shadow ray to a light at `l` can cross the
+/// polytope of `vertices` (from [`widened_vertices`]).
+#[cfg(feature = "animate")]
+pub(crate) enum OnPlane {
+    /// Nowhere: the polytope lies beyond the light or beyond the plane.
+    Nowhere,
+    /// Within the hull of the polytope's projection from the light (written to the
+    /// caller's points), when it lies between them (see the module's docs).
+    Within,
+    /// Anywhere: it reaches past the light's height, or the light is on the plane.
+    Anywhere,
+}
+
+/// Into `projected`, the projections of `vertices` from `l` onto `plane` where the
+/// shadow is bounded that way (see [`OnPlane`]).
 #[cfg(feature = "animate")]
 pub(crate) fn shadow_on_plane<S: Scalar>(
-    camera: &Camera<S>,
     l: Vec3<f64>,
     vertices: &[Vec3<f64>; 8],
     plane: &crate::object::Plane<S>,
-) -> ScreenBox {
-    const NOTHING: ScreenBox = ScreenBox {
-        rows: RowSpan::NONE,
-        columns: RowSpan::NONE,
-    };
+    projected: &mut [Vec3<f64>; 8],
+) -> OnPlane {
     let n = plane.unit_normal.to_f64();
     let offset = plane.n_dot_point.to_f64();
     let above = n.dot(l) - offset;
     let side = if above > 0.0 { 1.0 } else { -1.0 };
     let height = libm::fabs(above);
     if !(height > 0.0) {
-        return super::plane_footprint(camera, plane);
+        return OnPlane::Anywhere;
     }
     let (mut past_light, mut past_plane, mut between) = (true, true, true);
-    let mut projected = [Vec3::ZERO; 8];
     for (v, p) in vertices.iter().zip(projected.iter_mut()) {
         let d = side * (n.dot(*v) - offset);
         past_light &= d > height * (1.0 + NEARER);
@@ -287,11 +292,11 @@ pub(crate) fn shadow_on_plane<S: Scalar>(
         }
     }
     if past_light || past_plane {
-        NOTHING
+        OnPlane::Nowhere
     } else if between {
-        super::outline(camera, &projected)
+        OnPlane::Within
     } else {
-        super::plane_footprint(camera, plane)
+        OnPlane::Anywhere
     }
 }
 

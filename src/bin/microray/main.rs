@@ -4,6 +4,7 @@
 //! line and exit code 1; a reader that closes standard output early (`| head -1`) ends it
 //! quietly, with exit code 0.
 
+mod animate;
 mod output;
 
 use clap::{Parser, Subcommand, ValueEnum};
@@ -73,52 +74,77 @@ enum Command {
         /// device, a pipe); PPM if neither says.
         #[arg(long, value_enum)]
         format: Option<Format>,
-        /// The number type to compute in.
-        #[arg(long, value_enum, default_value_t = Number::F64)]
-        number: Number,
-        /// What pixels show: the course's shading, or a colour per object.
-        #[arg(long, value_enum, default_value_t = ShadeMode::Color)]
-        shade: ShadeMode,
-        /// No progress bar and no summary line.
-        #[arg(short, long)]
-        quiet: bool,
-        /// Render without the render plan: every shading stage runs and every ray is tested
-        /// against every object (the same image, for comparison).
-        #[arg(long)]
-        no_plan: bool,
+        #[command(flatten)]
+        look: Look,
         /// Render in the progressive order (8x8 blocks, 4x4, 2x2, every pixel; the same
         /// image) on one thread, and write each preview pass too, as OUT-8, OUT-4 and
         /// OUT-2 beside OUT.
         #[arg(long)]
         progressive: bool,
-        /// The panel's colour depth: `rgb565` writes the picture as a 5-6-5 panel shows it
-        /// with the channels truncated, expanded back to 8 bits per channel.
-        #[arg(long, value_enum)]
-        color: Option<Depth>,
-        /// Dither to a panel's colour depth instead of truncating (`rgb565`: an ordered 4x4
-        /// dither, as `microray::dither::Rgb565Dither` draws it), expanded back to 8 bits
-        /// per channel; `--color rgb565` may be given too, `--color rgb888` may not.
-        #[arg(long, value_enum)]
-        dither: Option<DitherTo>,
-        /// Anti-aliasing at fixed sample positions: N samples a pixel (a square: 1, 4, 9,
-        /// 16, ... 256; 1 is the plain render), or `adaptive` (16 samples on the pixels that
-        /// differ from a neighbour, the plain ray elsewhere; `adaptive:N` for N).
-        #[arg(long, value_parser = parse_aa, default_value = "1")]
-        aa: AaMode,
-        /// Adaptive anti-aliasing: neighbours whose channels differ by more than this many
-        /// levels (or that see different objects) are supersampled.
-        #[arg(long, default_value_t = 8)]
-        aa_threshold: u8,
-        /// Where a pixel's samples lie: a rotated grid (every sample its own row and column)
-        /// or a regular one.
-        #[arg(long, value_enum, default_value_t = AaPattern::Rotated)]
-        aa_pattern: AaPattern,
         /// Threads to render with (each takes bands of rows; the image is the same for
         /// any number); all cores by default, 1 for one thread. `--progressive` renders
         /// on one.
         #[arg(long, value_parser = clap::value_parser!(u16).range(1..))]
         threads: Option<u16>,
     },
+    /// Play a scene's `animation` into an animated PNG (APNG): frame 0 traced whole, each
+    /// later one only where its changes can touch the picture (the same frames as tracing
+    /// each whole, byte for byte).
+    Animate {
+        /// The scene file (`-`: standard input), with an `animation` block and motions.
+        scene: PathBuf,
+        /// The animated PNG to write (`-`: standard output).
+        #[arg(short, long)]
+        output: PathBuf,
+        #[command(flatten)]
+        look: Look,
+        /// Trace every frame whole, for comparison.
+        #[arg(long)]
+        full: bool,
+        /// How long each frame shows, in milliseconds.
+        #[arg(long, default_value_t = 40, value_parser = clap::value_parser!(u16).range(1..))]
+        delay: u16,
+    },
+}
+
+/// How a picture is computed and shown: the options `render` and `animate` share.
+#[derive(clap::Args)]
+struct Look {
+    /// The number type to compute in.
+    #[arg(long, value_enum, default_value_t = Number::F64)]
+    number: Number,
+    /// What pixels show: the course's shading, or a colour per object.
+    #[arg(long, value_enum, default_value_t = ShadeMode::Color)]
+    shade: ShadeMode,
+    /// No progress bar and no summary line.
+    #[arg(short, long)]
+    quiet: bool,
+    /// Render without the render plan: every shading stage runs and every ray is tested
+    /// against every object (the same image, for comparison).
+    #[arg(long)]
+    no_plan: bool,
+    /// The panel's colour depth: `rgb565` writes the picture as a 5-6-5 panel shows it
+    /// with the channels truncated, expanded back to 8 bits per channel.
+    #[arg(long, value_enum)]
+    color: Option<Depth>,
+    /// Dither to a panel's colour depth instead of truncating (`rgb565`: an ordered 4x4
+    /// dither, as `microray::dither::Rgb565Dither` draws it), expanded back to 8 bits
+    /// per channel; `--color rgb565` may be given too, `--color rgb888` may not.
+    #[arg(long, value_enum)]
+    dither: Option<DitherTo>,
+    /// Anti-aliasing at fixed sample positions: N samples a pixel (a square: 1, 4, 9,
+    /// 16, ... 256; 1 is the plain render), or `adaptive` (16 samples on the pixels that
+    /// differ from a neighbour, the plain ray elsewhere; `adaptive:N` for N).
+    #[arg(long, value_parser = parse_aa, default_value = "1")]
+    aa: AaMode,
+    /// Adaptive anti-aliasing: neighbours whose channels differ by more than this many
+    /// levels (or that see different objects) are supersampled.
+    #[arg(long, default_value_t = 8)]
+    aa_threshold: u8,
+    /// Where a pixel's samples lie: a rotated grid (every sample its own row and column)
+    /// or a regular one.
+    #[arg(long, value_enum, default_value_t = AaPattern::Rotated)]
+    aa_pattern: AaPattern,
 }
 
 /// `--aa` as given: a sample count, adaptive or not.
@@ -280,36 +306,10 @@ fn run(command: &Command) -> Result<(), Stop> {
             scene,
             output,
             format,
-            number,
-            shade,
-            quiet,
-            no_plan,
+            look,
             progressive,
-            color,
-            dither,
-            aa,
-            aa_threshold,
-            aa_pattern,
             threads,
         } => {
-            let pattern = match aa_pattern {
-                AaPattern::Rotated => Pattern::Rotated,
-                AaPattern::Regular => Pattern::Regular,
-            };
-            // parse_aa let only squares through.
-            let samples = Samples::new(aa.count, pattern).unwrap_or(Samples::ONE);
-            let depth = match (dither, color) {
-                (Some(DitherTo::Rgb565), None | Some(Depth::Rgb565)) => Output::Rgb565Dithered,
-                (Some(DitherTo::Rgb565), Some(Depth::Rgb888)) => {
-                    return Err(Stop::Failed(
-                        "error: --dither rgb565 reduces the picture to 5-6-5 bits, which \
-                         --color rgb888 does not: leave out one of them"
-                            .into(),
-                    ));
-                }
-                (None, Some(Depth::Rgb565)) => Output::Rgb565,
-                (None, Some(Depth::Rgb888) | None) => Output::Rgb888,
-            };
             if *progressive && threads.is_some_and(|n| n > 1) {
                 return Err(Stop::Failed(
                     "error: --progressive renders on one thread (its passes fill one image in \
@@ -319,34 +319,80 @@ fn run(command: &Command) -> Result<(), Stop> {
             }
             let options = Options {
                 format: *format,
-                shading: match shade {
-                    ShadeMode::Color => Shading::Color,
-                    ShadeMode::Ids => Shading::Ids,
-                },
-                quiet: *quiet,
-                planned: !no_plan,
                 progressive: *progressive,
-                depth,
                 threads: threads.map_or_else(
                     || std::thread::available_parallelism().map_or(1, |n| n.get()),
                     usize::from,
                 ),
-                aa: match (aa.adaptive, aa.count) {
-                    (false, 1) => None,
-                    (false, _) => Some(Antialias::Grid(samples)),
-                    (true, _) => Some(Antialias::Adaptive {
-                        samples,
-                        threshold: *aa_threshold,
-                    }),
-                },
+                ..options_of(look)?
             };
-            match number {
+            match look.number {
                 Number::F64 => render::<f64>(scene, output, &options),
                 Number::F32 => render::<f32>(scene, output, &options),
                 Number::I16f16 => render::<I16F16>(scene, output, &options),
             }
         }
+        Command::Animate {
+            scene,
+            output,
+            look,
+            full,
+            delay,
+        } => {
+            let options = options_of(look)?;
+            let film = animate::Film {
+                full: *full,
+                delay: *delay,
+            };
+            match look.number {
+                Number::F64 => animate::animate::<f64>(scene, output, &options, film),
+                Number::F32 => animate::animate::<f32>(scene, output, &options, film),
+                Number::I16f16 => animate::animate::<I16F16>(scene, output, &options, film),
+            }
+        }
     }
+}
+
+/// The options `look` gives (one thread, no progressive order, the format by the name).
+fn options_of(look: &Look) -> Result<Options, Stop> {
+    let pattern = match look.aa_pattern {
+        AaPattern::Rotated => Pattern::Rotated,
+        AaPattern::Regular => Pattern::Regular,
+    };
+    // parse_aa let only squares through.
+    let samples = Samples::new(look.aa.count, pattern).unwrap_or(Samples::ONE);
+    let depth = match (look.dither, look.color) {
+        (Some(DitherTo::Rgb565), None | Some(Depth::Rgb565)) => Output::Rgb565Dithered,
+        (Some(DitherTo::Rgb565), Some(Depth::Rgb888)) => {
+            return Err(Stop::Failed(
+                "error: --dither rgb565 reduces the picture to 5-6-5 bits, which \
+                 --color rgb888 does not: leave out one of them"
+                    .into(),
+            ));
+        }
+        (None, Some(Depth::Rgb565)) => Output::Rgb565,
+        (None, Some(Depth::Rgb888) | None) => Output::Rgb888,
+    };
+    Ok(Options {
+        format: None,
+        shading: match look.shade {
+            ShadeMode::Color => Shading::Color,
+            ShadeMode::Ids => Shading::Ids,
+        },
+        quiet: look.quiet,
+        planned: !look.no_plan,
+        progressive: false,
+        depth,
+        threads: 1,
+        aa: match (look.aa.adaptive, look.aa.count) {
+            (false, 1) => None,
+            (false, _) => Some(Antialias::Grid(samples)),
+            (true, _) => Some(Antialias::Adaptive {
+                samples,
+                threshold: look.aa_threshold,
+            }),
+        },
+    })
 }
 
 /// An empty scene on the heap. On the stack its room for 256 objects (about 100 KB) is a
@@ -464,22 +510,42 @@ fn count(n: usize, noun: &str) -> String {
 /// fault in, 0.1 ms a render.
 #[inline(never)]
 fn load<S: Scalar>(path: &Path, scene: &mut HostScene<'static, S>) -> Result<(), String> {
+    let (text, dir) = read(path)?;
+    load_text(&shown(path, "<stdin>"), &text, &dir, scene)
+}
+
+/// A scene file's text (`-`: standard input) and the folder its textures are found in.
+fn read(path: &Path) -> Result<(Vec<u8>, PathBuf), String> {
     let name = shown(path, "<stdin>");
-    let (text, dir) = if is_stdio(path) {
+    if is_stdio(path) {
         let mut text = Vec::new();
         std::io::stdin()
             .lock()
             .read_to_end(&mut text)
             .map_err(|e| format!("{name}: error: cannot read: {e}"))?;
-        (text, Path::new("."))
+        Ok((text, PathBuf::from(".")))
     } else {
         let text = std::fs::read(path).map_err(|e| format!("{name}: error: cannot read: {e}"))?;
-        (text, path.parent().unwrap_or(Path::new(".")))
-    };
-    parse_scene_into(&text, texture_files(dir), scene).map_err(|e| match e.position {
+        Ok((text, path.parent().unwrap_or(Path::new(".")).to_path_buf()))
+    }
+}
+
+/// Parses scene text read from `name` into `scene` (see [`load`]).
+fn load_text<S: Scalar>(
+    name: &str,
+    text: &[u8],
+    dir: &Path,
+    scene: &mut HostScene<'static, S>,
+) -> Result<(), String> {
+    parse_scene_into(text, texture_files(dir), scene).map_err(|e| located(name, &e))
+}
+
+/// `NAME:LINE:COL: error: ...` for a scene's error.
+fn located(name: &str, e: &microray::Error) -> String {
+    match e.position {
         Some(p) => format!("{name}:{}:{}: error: {}", p.line, p.column, e.kind),
         None => format!("{name}: error: {}", e.kind),
-    })
+    }
 }
 
 fn parse_size(text: &str) -> Result<(u16, u16), String> {

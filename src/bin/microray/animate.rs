@@ -1,0 +1,168 @@
+//! `microray animate`: a scene's film into an animated PNG, each frame after the first
+//! traced only where its changes can touch it (`microray::region`).
+
+use super::{
+    Options, Output, Stop, cannot_write, empty_scene, format_of, load_text, located, note, read,
+    shown, to_depth, warnings, write_whole,
+};
+use crate::output::{Format, is_stdio};
+use embedded_graphics::prelude::OriginDimensions;
+use embedded_graphics::primitives::Rectangle;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use microray::Scalar;
+use microray::host::{Framebuffer, HostRenderer};
+use microray::parse::parse_animation;
+use microray::region::Region;
+use microray::render::{AaPixel, Antialias, Renderer};
+use std::io::IsTerminal;
+use std::ops::ControlFlow;
+use std::path::Path;
+use std::time::Instant;
+
+/// The most motions a film may have.
+const MOTIONS: usize = 64;
+
+/// The most rectangles a frame's region keeps apart (more are merged).
+const AREAS: usize = 16;
+
+/// How to play the film.
+pub(crate) struct Film {
+    /// Trace every frame whole.
+    pub(crate) full: bool,
+    /// Milliseconds a frame.
+    pub(crate) delay: u16,
+}
+
+#[inline(never)]
+pub(crate) fn animate<S: Scalar>(
+    path: &Path,
+    output: &Path,
+    options: &Options,
+    film: Film,
+) -> Result<(), Stop> {
+    if format_of(output, Some(Format::Png))? != Format::Png {
+        return Err(Stop::Failed(format!(
+            "{}: error: animate writes an animated PNG: name it .png",
+            output.display()
+        )));
+    }
+    if is_stdio(output) && std::io::stdout().is_terminal() {
+        return Err(Stop::Failed(
+            "error: standard output is a terminal: send the film to a file or a pipe".into(),
+        ));
+    }
+    let name = shown(path, "<stdin>");
+    let (text, dir) = read(path)?;
+    let mut scene = empty_scene::<S>();
+    load_text(&name, &text, &dir, &mut scene)?;
+    let animation = parse_animation::<MOTIONS>(&text)
+        .map_err(|e| located(&name, &e))?
+        .ok_or_else(|| {
+            format!(
+                "{name}: error: no `animation` block: nothing moves (docs/scene-format.md \
+                 describes `animation`, `line`, `orbit` and `bounce`)"
+            )
+        })?;
+    if !options.quiet {
+        for line in warnings(&scene, &name) {
+            note(&line)?;
+        }
+    }
+    let size = scene.camera();
+    let size = embedded_graphics::prelude::Size::new(size.width().into(), size.height().into());
+    let frames = animation.frames();
+    let bar = (!options.quiet).then(|| {
+        let bar = ProgressBar::with_draw_target(Some(frames.into()), ProgressDrawTarget::stderr());
+        let style = ProgressStyle::with_template("{bar:40} {pos}/{len} frames, {eta} left");
+        bar.set_style(style.unwrap_or_else(|_| ProgressStyle::default_bar()));
+        bar
+    });
+    // Adaptive anti-aliasing supersamples a pixel by what its neighbours show.
+    let border = u16::from(matches!(options.aa, Some(Antialias::Adaptive { .. })));
+    let mut region = Region::<AREAS>::new(size).with_border(border);
+    let mut image = Framebuffer::new(size);
+    let mut traced = 0u64;
+    let start = Instant::now();
+    write_whole(output, |out| {
+        let encoding = |e: png::EncodingError| cannot_write(output, std::io::Error::other(e));
+        let mut encoder = png::Encoder::new(out, size.width, size.height);
+        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_depth(png::BitDepth::Eight);
+        encoder.set_animated(frames.into(), 0).map_err(encoding)?;
+        encoder
+            .set_frame_delay(film.delay, 1000)
+            .map_err(encoding)?;
+        let mut writer = encoder.write_header().map_err(encoding)?;
+        for frame in 0..frames {
+            region.clear();
+            if frame > 0 {
+                animation
+                    .show_frame(frame, &mut scene, &mut region)
+                    .map_err(|e| format!("{name}: error: frame {frame}: {e}"))?;
+            }
+            if frame == 0 || film.full {
+                region.add_whole();
+            }
+            let renderer = Renderer::new(&*scene)
+                .with_shading(options.shading)
+                .with_plan(options.planned);
+            for area in region.rectangles() {
+                draw(&renderer, &mut image, area, options.aa)
+                    .map_err(|e| format!("{name}: error: frame {frame}: {e}"))?;
+            }
+            traced += u64::from(region.pixels());
+            if options.depth == Output::Rgb888 {
+                writer.write_image_data(image.rgb()).map_err(encoding)?;
+            } else {
+                let mut shown_image = image.clone();
+                to_depth(shown_image.rgb_mut(), size.width as usize, 0, options.depth);
+                writer
+                    .write_image_data(shown_image.rgb())
+                    .map_err(encoding)?;
+            }
+            if let Some(bar) = &bar {
+                bar.inc(1);
+            }
+        }
+        writer.finish().map_err(encoding)
+    })?;
+    if let Some(bar) = &bar {
+        bar.finish_and_clear();
+    }
+    if options.quiet {
+        return Ok(());
+    }
+    let all = u64::from(frames) * u64::from(size.width) * u64::from(size.height);
+    note(&format!(
+        "{name}: {frames} frames of {}x{} in {:.2} s ({}, {:.1} % of the pixels traced{}) -> {}",
+        size.width,
+        size.height,
+        start.elapsed().as_secs_f64(),
+        S::NAME,
+        100.0 * traced as f64 / all.max(1) as f64,
+        if film.full { ", every frame whole" } else { "" },
+        shown(output, "<stdout>")
+    ))
+}
+
+/// Renders `area` of the picture into `image`, anti-aliased by `aa` when given.
+fn draw<S: Scalar>(
+    renderer: &HostRenderer<'_, S>,
+    image: &mut Framebuffer,
+    area: Rectangle,
+    aa: Option<Antialias>,
+) -> Result<(), String> {
+    let width = image.size().width as usize;
+    let go_on = |_| ControlFlow::Continue(());
+    let done = match aa {
+        Some(aa) => {
+            let mut buffer = vec![AaPixel::NEW; Antialias::buffer_len(width as u16)];
+            renderer.render_antialiased(image, area, aa, &mut buffer, go_on)
+        }
+        None => {
+            let mut row = vec![Default::default(); width];
+            renderer.render_area(image, area, &mut row, go_on)
+        }
+    };
+    done.map(|_| ()).map_err(|e| e.to_string())
+}

@@ -20,25 +20,28 @@
 //! in every number type.
 //!
 //! The region is a short list of disjoint screen rectangles whose capacity is part of the
-//! type, as with every list in microray: when it is full, the two rectangles whose union
-//! grows least are merged, so it always holds every pixel asked for.
+//! type, as with every list in microray: a rectangle that overlaps one already there adds
+//! only its parts outside it, and when the list is full, a part is merged with the
+//! rectangle whose union with it grows least, so the region always holds every pixel asked
+//! for and traces none twice.
 //!
 //! ```
 //! use microray::embedded_graphics::prelude::*;
 //! use microray::embedded_graphics::primitives::Rectangle;
 //! use microray::region::Region;
 //!
-//! let mut region = Region::<2>::new(Size::new(100, 80));
-//! region.add(Rectangle::new(Point::new(10, 10), Size::new(20, 20)));
-//! region.add(Rectangle::new(Point::new(25, 25), Size::new(10, 10)));
-//! region.add(Rectangle::new(Point::new(90, 70), Size::new(30, 30)));
-//! // The first two overlap: one rectangle. The third is clipped to the screen.
-//! let areas: Vec<Rectangle> = region.rectangles().collect();
-//! assert_eq!(areas, [
-//!     Rectangle::new(Point::new(10, 10), Size::new(25, 25)),
-//!     Rectangle::new(Point::new(90, 70), Size::new(10, 10)),
-//! ]);
-//! assert_eq!(region.pixels(), 25 * 25 + 10 * 10);
+//! let square = |x, y, side| Rectangle::new(Point::new(x, y), Size::new(side, side));
+//! let mut region = Region::<8>::new(Size::new(100, 80));
+//! region.add(square(10, 10, 20));
+//! region.add(square(25, 25, 10)); // overlaps the first: only its 75 new pixels are added
+//! region.add(square(90, 70, 30)); // clipped to the screen
+//! assert_eq!(region.pixels(), 20 * 20 + 75 + 10 * 10);
+//!
+//! // Room for two rectangles: the overlapping ones become their bounding box.
+//! let mut small = Region::<2>::new(Size::new(100, 80));
+//! small.add(square(10, 10, 20));
+//! small.add(square(25, 25, 10));
+//! assert_eq!(small.rectangles().collect::<Vec<_>>(), [square(10, 10, 25)]);
 //! ```
 
 use crate::bvh::bounds;
@@ -67,6 +70,12 @@ pub struct Region<const N: usize> {
     areas: Vec<Area, N>,
 }
 
+/// Parts of added rectangles waiting to be filed.
+const PENDING: usize = 16;
+
+/// The most steps one rectangle's filing takes before the region becomes the whole frame.
+const STEPS: usize = 4096;
+
 /// A rectangle of pixels, both ends included.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct Area {
@@ -82,6 +91,43 @@ impl Area {
             && other.left <= self.right
             && self.top <= other.bottom
             && other.top <= self.bottom
+    }
+
+    /// The parts of `self` outside `other` (which it overlaps): the rows above and below
+    /// it, then the columns left and right of it in its rows.
+    fn less(&self, other: &Area) -> Vec<Area, 4> {
+        let mut parts = Vec::new();
+        let (top, bottom) = (self.top.max(other.top), self.bottom.min(other.bottom));
+        // None can fail: four at most. Overlap makes `top <= bottom` and the columns meet.
+        if self.top < other.top {
+            let _ = parts.push(Area {
+                bottom: other.top - 1,
+                ..*self
+            });
+        }
+        if self.bottom > other.bottom {
+            let _ = parts.push(Area {
+                top: other.bottom + 1,
+                ..*self
+            });
+        }
+        if self.left < other.left {
+            let _ = parts.push(Area {
+                top,
+                bottom,
+                right: other.left - 1,
+                ..*self
+            });
+        }
+        if self.right > other.right {
+            let _ = parts.push(Area {
+                top,
+                bottom,
+                left: other.right + 1,
+                ..*self
+            });
+        }
+        parts
     }
 
     fn union(&self, other: &Area) -> Area {
@@ -213,28 +259,47 @@ impl<const N: usize> Region<N> {
         }
     }
 
-    /// Adds a rectangle of pixels, merging it with those it overlaps; when the list is full,
-    /// with the one whose union with it is smallest.
-    fn push(&mut self, mut area: Area) {
-        if self.whole {
-            return;
-        }
-        loop {
-            if let Some(i) = self.areas.iter().position(|a| a.overlaps(&area)) {
-                area = area.union(&self.areas.swap_remove(i));
-                continue;
+    /// Adds a rectangle of pixels: the parts of it outside those there are added as they
+    /// are (up to four each); when the list is full, a part is merged with the rectangle
+    /// whose union with it is smallest.
+    fn push(&mut self, area: Area) {
+        // Each part, and whether it came from a merge: a merged rectangle absorbs those it
+        // overlaps (splitting it again could undo the merge forever).
+        let mut pending = Vec::<(Area, bool), PENDING>::new();
+        let _ = pending.push((area, false));
+        // Every step files a part, splits one off an overlap or merges two: a few hundred
+        // at most for the list's capacity; past the bound, the whole frame.
+        for _ in 0..STEPS {
+            if self.whole {
+                return;
             }
-            let Err(left_over) = self.areas.push(area) else {
+            let Some((a, merged)) = pending.pop() else {
                 return;
             };
-            let grows = |a: &Area| a.union(&left_over).pixels() - a.pixels();
+            if let Some(b) = self.areas.iter().copied().find(|b| b.overlaps(&a)) {
+                let parts = a.less(&b);
+                if !merged && pending.len() + parts.len() <= PENDING {
+                    pending.extend(parts.into_iter().map(|p| (p, false)));
+                } else {
+                    self.areas.retain(|x| *x != b);
+                    let _ = pending.push((a.union(&b), true));
+                }
+                continue;
+            }
+            let Err(left_over) = self.areas.push(a) else {
+                continue;
+            };
+            let grows = |x: &Area| x.union(&left_over).pixels() - x.pixels();
             let closest = (0..self.areas.len()).min_by_key(|&i| self.areas.get(i).map(grows));
             match closest {
-                Some(i) => area = left_over.union(&self.areas.swap_remove(i)),
+                Some(i) => {
+                    let _ = pending.push((left_over.union(&self.areas.swap_remove(i)), true));
+                }
                 // No room at all (`N` is 0): only the whole frame holds it.
                 None => return self.add_whole(),
             }
         }
+        self.add_whole();
     }
 
     /// Adds a box of the plan's rows (`y = 0` the bottom) and columns.
@@ -657,4 +722,70 @@ fn may_meet(l: Vec3<f64>, object: (Vec3<f64>, f64), receiver: (Vec3<f64>, f64)) 
     let cos_sum = ca * cb - sa * sb;
     let cos_between = a.dot(b) / (da * db);
     !(cos_between < cos_sum - 1e-9)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use embedded_graphics::prelude::PointsIter;
+    use proptest::prelude::*;
+
+    fn rectangle() -> impl Strategy<Value = Rectangle> {
+        (-10..70i32, -10..50i32, 0..40u32, 0..30u32)
+            .prop_map(|(x, y, w, h)| Rectangle::new(Point::new(x, y), Size::new(w, h)))
+    }
+
+    fn check<const N: usize>(added: &[Rectangle], border: u16) -> Result<(), TestCaseError> {
+        let size = Size::new(64, 48);
+        let mut region = Region::<N>::new(size).with_border(border);
+        for &r in added {
+            region.add(r);
+        }
+        let mut count = [[0u8; 64]; 48];
+        for r in region.rectangles() {
+            for p in r.points() {
+                prop_assert!(
+                    p.x >= 0 && p.y >= 0 && p.x < 64 && p.y < 48,
+                    "{p:?} off screen"
+                );
+                count[p.y as usize][p.x as usize] += 1;
+            }
+        }
+        prop_assert!(region.rectangles().count() <= N.max(1));
+        let traced: u32 = count.iter().flatten().map(|&c| u32::from(c)).sum();
+        prop_assert_eq!(traced, region.pixels());
+        for (y, row) in count.iter().enumerate() {
+            for (x, &c) in row.iter().enumerate() {
+                prop_assert!(c <= 1, "({x}, {y}) traced {c} times");
+                let b = i32::from(border);
+                let asked = added.iter().any(|r| {
+                    let grown = Rectangle::new(
+                        r.top_left - Point::new(b, b),
+                        r.size + Size::new(2 * u32::from(border), 2 * u32::from(border)),
+                    );
+                    !r.is_zero_sized() && grown.contains(Point::new(x as i32, y as i32))
+                });
+                prop_assert!(!asked || c == 1, "({x}, {y}) asked for, not in the region");
+            }
+        }
+        Ok(())
+    }
+
+    proptest! {
+        /// Every pixel asked for is in the region once, whatever the capacity.
+        #[test]
+        fn every_pixel_once(added in prop::collection::vec(rectangle(), 0..12), border in 0..3u16) {
+            check::<1>(&added, border)?;
+            check::<3>(&added, border)?;
+            check::<16>(&added, border)?;
+        }
+    }
+
+    #[test]
+    fn no_room_is_the_whole_frame() {
+        let mut region = Region::<0>::new(Size::new(8, 6));
+        region.add(Rectangle::new(Point::new(1, 1), Size::new(2, 2)));
+        assert!(region.is_whole());
+        assert_eq!(region.pixels(), 48);
+    }
 }

@@ -417,3 +417,195 @@ fn regions_leave_pixels_out() {
     );
     assert!(share > 1.0 / 3.0, "only {:.1} % left out", 100.0 * share);
 }
+
+mod language {
+    use microray::host::{HostScene, texture_files};
+    use microray::parse::{parse_animation, parse_scene};
+    use microray::print::{print_animation, print_scene};
+    use std::path::Path;
+
+    const FILM: &str = "camera c { pixeldim 64 48 worlddim 8 6 viewpoint 4 3 6 }
+material white { diffuse 3 3 3 }
+plane floor { material white normal 0 1 0 point 0 0 0 }
+sphere ball { material white center 4 1 -4 radius 1 }
+light sun { location 4 9 2 emissivity 6 6 6 }
+";
+
+    fn error(text: &str) -> String {
+        match parse_animation::<4>(text.as_bytes()) {
+            Err(e) => e.to_string(),
+            Ok(a) => panic!("{text}: read as {a:?}"),
+        }
+    }
+
+    #[test]
+    fn errors_name_line_column_and_what_is_wrong() {
+        // The film's blocks start on line 6.
+        let cases = [
+            (
+                "animation a { frames 0 }",
+                "6:15: `frames` must be between 1 and 65535",
+            ),
+            (
+                "animation a { frames 2.5 }",
+                "6:22: `frames` takes whole numbers, found `2.5`",
+            ),
+            (
+                "animation a { frames 9 }\nanimation b { frames 9 }",
+                "7:1: second `animation` block (a scene has at most one)",
+            ),
+            (
+                "animation a { frames 9 }\nline l { target ghost by 1 0 0 }",
+                "7:10: no object or light named `ghost` (a motion moves an object or light defined before it)",
+            ),
+            (
+                "animation a { frames 9 }\nline l { target moon by 1 0 0 }\nsphere moon { material white center 0 0 0 radius 1 }",
+                "7:10: no object or light named `moon` (a motion moves an object or light defined before it)",
+            ),
+            (
+                "bounce b { target ball height 1 bounces 0 }",
+                "6:33: `bounces` must be between 1 and 65535",
+            ),
+            (
+                "orbit o { target ball center 0 0 0 direction 0 0 0 turns 1 }",
+                "6:36: `direction` must not be the zero vector",
+            ),
+            ("line l { target ball }", "6:1: line is missing `by`"),
+            (
+                "line l { target ball by 1 0 0 speed 2 }",
+                "6:31: unknown attribute `speed` in line (expected target, by or `}`)",
+            ),
+        ];
+        for (tail, expected) in cases {
+            assert_eq!(error(&format!("{FILM}{tail}")), expected, "{tail}");
+        }
+        // Motions need the block that gives the number of frames.
+        let text = format!("{FILM}bounce b {{ target ball height 1 bounces 1 }}");
+        assert_eq!(
+            error(&text),
+            "6:44: motions but no `animation` block (it gives the number of frames: `animation clip { frames 48 }`)"
+        );
+    }
+
+    #[test]
+    fn a_film_prints_and_reads_back_equal() {
+        let text = format!(
+            "{FILM}animation clip {{ frames 30 }}
+line slide {{ target ball by 1.5 0 -0.25 }}
+orbit round {{ target sun center 4 9 -2 direction 0 1 0 turns -0.75 }}
+bounce hop {{ target ball height 2.5 bounces 3 }}"
+        );
+        let scene: HostScene<'static, f64> =
+            parse_scene(text.as_bytes(), texture_files(Path::new("."))).unwrap();
+        let animation = parse_animation::<4>(text.as_bytes()).unwrap().unwrap();
+        let mut printed = String::new();
+        print_scene(&scene, &mut printed).unwrap();
+        print_animation(&animation, &mut printed).unwrap();
+        let again = parse_animation::<4>(printed.as_bytes()).unwrap().unwrap();
+        assert_eq!(again.frames(), 30);
+        assert_eq!(again.motions().len(), 3);
+        for (a, b) in animation.motions().iter().zip(again.motions()) {
+            assert_eq!(
+                (a.name(), a.path(), a.target()),
+                (b.name(), b.path(), b.target())
+            );
+        }
+        let mut twice = String::new();
+        let scene_again: HostScene<'static, f64> =
+            parse_scene(printed.as_bytes(), texture_files(Path::new("."))).unwrap();
+        print_scene(&scene_again, &mut twice).unwrap();
+        print_animation(&again, &mut twice).unwrap();
+        assert_eq!(printed, twice);
+    }
+
+    /// The motion blocks change nothing of the scene itself: frame 0 is the scene as written.
+    #[test]
+    fn a_scene_with_motions_is_the_scene_without() {
+        let with = format!(
+            "{FILM}animation clip {{ frames 8 }}\nbounce hop {{ target ball height 2 bounces 1 }}"
+        );
+        let a: HostScene<'static, f64> =
+            parse_scene(with.as_bytes(), texture_files(Path::new("."))).unwrap();
+        let b: HostScene<'static, f64> =
+            parse_scene(FILM.as_bytes(), texture_files(Path::new("."))).unwrap();
+        assert!(a == b);
+        assert!(parse_animation::<4>(FILM.as_bytes()).unwrap().is_none());
+    }
+}
+
+/// The films in scenes/: every frame, traced in its region into the previous one, equals
+/// the full frame, in every number type (at 96x72: the films' own sizes take longer).
+mod films {
+    use super::*;
+    use microray::host::{HostRenderer, HostScene, texture_files};
+    use microray::parse::{parse_animation, parse_scene_into};
+    use std::path::Path;
+
+    fn play<S: Scalar>(path: &Path) -> (u64, u64) {
+        let text = std::fs::read(path).unwrap();
+        let mut scene: Box<HostScene<'static, S>> = Box::new(HostScene::empty());
+        parse_scene_into(&text, texture_files(path.parent().unwrap()), &mut scene).unwrap();
+        scene.set_resolution(96, 72).unwrap();
+        let animation = parse_animation::<8>(&text).unwrap().unwrap();
+        let size = Size::new(96, 72);
+        let mut shown = Framebuffer::new(size);
+        let mut traced = 0u64;
+        for frame in 0..animation.frames() {
+            let mut region = Region::<16>::new(size);
+            if frame == 0 {
+                region.add_whole();
+            } else {
+                animation
+                    .show_frame(frame, &mut scene, &mut region)
+                    .unwrap();
+            }
+            let renderer: HostRenderer<'_, S> = Renderer::new(&*scene);
+            let mut row = vec![Default::default(); 96];
+            for area in region.rectangles() {
+                renderer
+                    .render_area(&mut shown, area, &mut row, |_| ControlFlow::Continue(()))
+                    .unwrap();
+            }
+            traced += u64::from(region.pixels());
+            let mut full = Framebuffer::new(size);
+            renderer
+                .render_area(
+                    &mut full,
+                    Rectangle::new(Point::zero(), size),
+                    &mut row,
+                    |_| ControlFlow::Continue(()),
+                )
+                .unwrap();
+            assert!(
+                shown.rgb() == full.rgb(),
+                "{} in {}: frame {frame} differs",
+                path.display(),
+                S::NAME
+            );
+        }
+        (traced, u64::from(animation.frames()) * 96 * 72)
+    }
+
+    #[test]
+    fn every_frame_of_every_film_is_the_full_frame() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+        let mut films = 0;
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            let text = std::fs::read(&path).unwrap_or_default();
+            if !text.windows(10).any(|w| w == b"animation ") {
+                continue;
+            }
+            films += 1;
+            play::<f64>(&path);
+            play::<f32>(&path);
+            let (traced, all) = play::<I16F16>(&path);
+            eprintln!(
+                "{}: {:.1} % traced",
+                path.display(),
+                100.0 * traced as f64 / all as f64
+            );
+        }
+        assert!(films >= 4, "only {films} films in scenes/");
+    }
+}

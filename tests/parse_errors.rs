@@ -48,7 +48,7 @@ fn unknown_entity() {
         "sphear s { }",
         1,
         1,
-        "expected an entity (camera, material, light, spotlight, plane, sphere, fplane, tiled_plane, texture, texplane, projector, revsurf), found `sphear`",
+        "expected an entity (camera, material, light, spotlight, plane, sphere, fplane, tiled_plane, texture, texplane, projector, revsurf, animation, line, orbit, bounce), found `sphear`",
     );
 }
 
@@ -452,7 +452,7 @@ fn characters_and_encoding() {
         "# é\né sphear",
         2,
         1,
-        "expected an entity (camera, material, light, spotlight, plane, sphere, fplane, tiled_plane, texture, texplane, projector, revsurf), found `é`",
+        "expected an entity (camera, material, light, spotlight, plane, sphere, fplane, tiled_plane, texture, texplane, projector, revsurf, animation, line, orbit, bounce), found `é`",
     );
 }
 

@@ -483,3 +483,133 @@ fn render_reports_its_time_in_milliseconds() {
     assert_eq!(rest.trim_end(), format!("f64, 2 threads) -> {out}"));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The frames of an animated PNG as a player shows them (each drawn over the last at its
+/// place), as RGB bytes.
+fn apng_frames(bytes: &[u8]) -> Vec<Vec<u8>> {
+    let mut reader = png::Decoder::new(std::io::Cursor::new(bytes))
+        .read_info()
+        .unwrap();
+    let (width, height) = (reader.info().width as usize, reader.info().height as usize);
+    let count = reader.info().animation_control().unwrap().num_frames;
+    let mut canvas = vec![0u8; width * height * 3];
+    let mut frames = Vec::new();
+    for _ in 0..count {
+        let mut frame = vec![0; reader.output_buffer_size().unwrap()];
+        reader.next_frame(&mut frame).unwrap();
+        let control = reader.info().frame_control().copied().unwrap();
+        let (x, y) = (control.x_offset as usize, control.y_offset as usize);
+        let (w, h) = (control.width as usize, control.height as usize);
+        for row in 0..h {
+            let to = ((y + row) * width + x) * 3;
+            canvas[to..to + w * 3].copy_from_slice(&frame[row * w * 3..(row + 1) * w * 3]);
+        }
+        frames.push(canvas.clone());
+    }
+    frames
+}
+
+#[test]
+fn animate_writes_every_frame_as_the_moved_scene_renders() {
+    let dir = std::env::temp_dir().join(format!("microray-cli-animate-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let still = "camera c { pixeldim 32 24 worlddim 8 6 viewpoint 4 3 6 }
+         material m { diffuse 3 3 3 ambient 0.2 0.2 0.2 }
+         plane floor { material m normal 0 1 0 point 0 0 0 }
+         light lamp { location 2 9 2 emissivity 8 8 8 }\n";
+    let film = dir.join("film.txt");
+    std::fs::write(
+        &film,
+        format!(
+            "{still}sphere ball {{ material m center 2 1 -4 radius 1 }}
+             animation a {{ frames 5 }}
+             line roll {{ target ball by 4 0 0 }}"
+        ),
+    )
+    .unwrap();
+    let film = film.to_str().unwrap();
+    let (incremental, full) = (dir.join("film.png"), dir.join("full.png"));
+    for (out, extra) in [(&incremental, None), (&full, Some("--full"))] {
+        let mut args = vec![
+            "animate",
+            film,
+            "-o",
+            out.to_str().unwrap(),
+            "--number",
+            "f32",
+        ];
+        args.extend(extra);
+        let run = microray(&args);
+        assert!(run.status.success(), "{}", text(&run.stderr));
+        assert!(
+            text(&run.stderr).contains("5 frames of 32x24"),
+            "{}",
+            text(&run.stderr)
+        );
+    }
+    let frames = apng_frames(&std::fs::read(&incremental).unwrap());
+    assert_eq!(frames.len(), 5);
+    assert_eq!(frames, apng_frames(&std::fs::read(&full).unwrap()));
+    // The last frame is the scene with the ball moved by the whole line.
+    let moved = dir.join("moved.txt");
+    std::fs::write(
+        &moved,
+        format!("{still}sphere ball {{ material m center 6 1 -4 radius 1 }}"),
+    )
+    .unwrap();
+    let image = dir.join("moved.png");
+    let run = microray(&[
+        "render",
+        moved.to_str().unwrap(),
+        "-o",
+        image.to_str().unwrap(),
+        "--number",
+        "f32",
+        "-q",
+    ]);
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let mut reader = png::Decoder::new(std::io::Cursor::new(std::fs::read(&image).unwrap()))
+        .read_info()
+        .unwrap();
+    let mut last = vec![0; reader.output_buffer_size().unwrap()];
+    reader.next_frame(&mut last).unwrap();
+    // Only the region is stored after the first frame.
+    let bytes = |p: &std::path::Path| std::fs::metadata(p).unwrap().len();
+    assert!(bytes(&incremental) < bytes(&full));
+    assert!(frames[4] == last, "the last frame is not the moved scene's");
+    assert!(frames[0] != last, "nothing moved");
+    // A scene without motion, and an output that is not PNG, are refused in one line.
+    let run = microray(&[
+        "animate",
+        moved.to_str().unwrap(),
+        "-o",
+        image.to_str().unwrap(),
+    ]);
+    assert_eq!(run.status.code(), Some(1));
+    assert!(
+        text(&run.stderr).contains("error: no `animation` block: nothing moves"),
+        "{}",
+        text(&run.stderr)
+    );
+    let run = microray(&[
+        "animate",
+        film,
+        "-o",
+        dir.join("film.ppm").to_str().unwrap(),
+    ]);
+    assert_eq!(run.status.code(), Some(1));
+    assert!(
+        text(&run.stderr).ends_with("error: animate writes an animated PNG: name it .png\n")
+            || text(&run.stderr).contains("--format"),
+        "{}",
+        text(&run.stderr)
+    );
+    // `print` writes the film's blocks back.
+    let run = microray(&["print", film]);
+    assert!(
+        text(&run.stdout).ends_with("line roll\n{\n  target ball\n  by 4 0 0\n}\n"),
+        "{}",
+        text(&run.stdout)
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

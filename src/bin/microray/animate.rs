@@ -2,11 +2,11 @@
 //! traced only where its changes can touch it (`microray::region`).
 
 use super::{
-    Options, Output, Stop, cannot_write, empty_scene, format_of, load_text, located, note, read,
-    shown, to_depth, warnings, write_whole,
+    Options, Stop, cannot_write, empty_scene, format_of, load_text, located, note, read, shown,
+    to_depth, warnings, write_whole,
 };
 use crate::output::{Format, is_stdio};
-use embedded_graphics::prelude::OriginDimensions;
+use embedded_graphics::prelude::{OriginDimensions, Point};
 use embedded_graphics::primitives::Rectangle;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use microray::Scalar;
@@ -20,7 +20,7 @@ use std::path::Path;
 use std::time::Instant;
 
 /// The most motions a film may have.
-const MOTIONS: usize = 64;
+pub(crate) const MOTIONS: usize = 64;
 
 /// The most rectangles a frame's region keeps apart (more are merged).
 const AREAS: usize = 16;
@@ -31,6 +31,8 @@ pub(crate) struct Film {
     pub(crate) full: bool,
     /// Milliseconds a frame.
     pub(crate) delay: u16,
+    /// The size, if not the scene's.
+    pub(crate) size: Option<(u16, u16)>,
 }
 
 #[inline(never)]
@@ -40,7 +42,10 @@ pub(crate) fn animate<S: Scalar>(
     options: &Options,
     film: Film,
 ) -> Result<(), Stop> {
-    if format_of(output, Some(Format::Png))? != Format::Png {
+    let named = (!is_stdio(output))
+        .then(|| Format::of_name(output))
+        .flatten();
+    if named == Some(Format::Ppm) || format_of(output, Some(Format::Png))? != Format::Png {
         return Err(Stop::Failed(format!(
             "{}: error: animate writes an animated PNG: name it .png",
             output.display()
@@ -55,6 +60,11 @@ pub(crate) fn animate<S: Scalar>(
     let (text, dir) = read(path)?;
     let mut scene = empty_scene::<S>();
     load_text(&name, &text, &dir, &mut scene)?;
+    if let Some((width, height)) = film.size {
+        scene
+            .set_resolution(width, height)
+            .map_err(|e| format!("{name}: error: --size: {e}"))?;
+    }
     let animation = parse_animation::<MOTIONS>(&text)
         .map_err(|e| located(&name, &e))?
         .ok_or_else(|| {
@@ -111,15 +121,16 @@ pub(crate) fn animate<S: Scalar>(
                     .map_err(|e| format!("{name}: error: frame {frame}: {e}"))?;
             }
             traced += u64::from(region.pixels());
-            if options.depth == Output::Rgb888 {
-                writer.write_image_data(image.rgb()).map_err(encoding)?;
-            } else {
-                let mut shown_image = image.clone();
-                to_depth(shown_image.rgb_mut(), size.width as usize, 0, options.depth);
-                writer
-                    .write_image_data(shown_image.rgb())
-                    .map_err(encoding)?;
-            }
+            let mut shown_image = image.clone();
+            to_depth(shown_image.rgb_mut(), size.width as usize, 0, options.depth);
+            // Only the region's bounding box is stored: the player keeps the rest.
+            let (x, y, w, h) = bounding_box(&region, size);
+            writer.reset_frame_position().map_err(encoding)?;
+            writer.set_frame_dimension(w, h).map_err(encoding)?;
+            writer.set_frame_position(x, y).map_err(encoding)?;
+            writer
+                .write_image_data(&cut(shown_image.rgb(), size.width, (x, y, w, h)))
+                .map_err(encoding)?;
             if let Some(bar) = &bar {
                 bar.inc(1);
             }
@@ -165,4 +176,41 @@ fn draw<S: Scalar>(
         }
     };
     done.map(|_| ()).map_err(|e| e.to_string())
+}
+
+/// The smallest rectangle holding the region (one pixel when it is empty): `x, y, w, h`.
+fn bounding_box<const N: usize>(
+    region: &Region<N>,
+    size: embedded_graphics::prelude::Size,
+) -> (u32, u32, u32, u32) {
+    let corners = |r: Rectangle| {
+        let end = r.top_left + Point::new(r.size.width as i32, r.size.height as i32);
+        (r.top_left, end)
+    };
+    let joined = region
+        .rectangles()
+        .map(corners)
+        .reduce(|(a, b), (c, d)| (a.component_min(c), b.component_max(d)));
+    let Some((low, high)) = joined else {
+        return (0, 0, 1, 1);
+    };
+    let (x, y) = (low.x.max(0) as u32, low.y.max(0) as u32);
+    let w = (high.x.max(0) as u32)
+        .min(size.width)
+        .saturating_sub(x)
+        .max(1);
+    let h = (high.y.max(0) as u32)
+        .min(size.height)
+        .saturating_sub(y)
+        .max(1);
+    (x, y, w, h)
+}
+
+/// The RGB bytes of `(x, y, w, h)` of a picture `width` pixels wide.
+fn cut(rgb: &[u8], width: u32, (x, y, w, h): (u32, u32, u32, u32)) -> Vec<u8> {
+    let (width, x, w) = (width as usize * 3, x as usize * 3, w as usize * 3);
+    (y as usize..(y + h) as usize)
+        .flat_map(|row| &rgb[row * width + x..row * width + x + w])
+        .copied()
+        .collect()
 }

@@ -104,6 +104,9 @@ enum Command {
         /// How long each frame shows, in milliseconds.
         #[arg(long, default_value_t = 40, value_parser = clap::value_parser!(u16).range(1..))]
         delay: u16,
+        /// The film's size, WIDTHxHEIGHT, if not the scene's `pixeldim` (a panel's).
+        #[arg(long, value_parser = parse_size)]
+        size: Option<(u16, u16)>,
     },
 }
 
@@ -338,11 +341,13 @@ fn run(command: &Command) -> Result<(), Stop> {
             look,
             full,
             delay,
+            size,
         } => {
             let options = options_of(look)?;
             let film = animate::Film {
                 full: *full,
                 delay: *delay,
+                size: *size,
             };
             match look.number {
                 Number::F64 => animate::animate::<f64>(scene, output, &options, film),
@@ -415,11 +420,19 @@ fn shown(path: &Path, stdio: &str) -> String {
 // in `main` would be stack that every command faults in.
 #[inline(never)]
 fn print(path: &Path) -> Result<(), Stop> {
+    let name = shown(path, "<stdin>");
+    let (source, dir) = read(path)?;
     let mut s = empty_scene::<f64>();
-    load(path, &mut s)?;
+    load_text(&name, &source, &dir, &mut s)?;
+    let animation = microray::parse::parse_animation::<{ animate::MOTIONS }>(&source)
+        .map_err(|e| located(&name, &e))?;
     let mut text = String::new();
     print_scene(&s, &mut text)
-        .map_err(|_| format!("{}: error: printing failed", shown(path, "<stdin>")))?;
+        .and_then(|()| match &animation {
+            Some(a) => microray::print::print_animation(a, &mut text),
+            None => Ok(()),
+        })
+        .map_err(|_| format!("{name}: error: printing failed"))?;
     say(&text)
 }
 

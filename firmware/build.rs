@@ -37,6 +37,12 @@ fn main() {
     println!("cargo:rerun-if-env-changed=MICRORAY_FW_SIZE");
     println!("cargo:rerun-if-env-changed=MICRORAY_FW_ONLY");
     println!("cargo:rerun-if-env-changed=MICRORAY_FW_PLAN");
+    println!("cargo:rerun-if-env-changed=MICRORAY_FW_FRAMES");
+    // With `animate`: play only each film's first frames (all when unset or 0).
+    let frames: u16 = env::var("MICRORAY_FW_FRAMES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(0);
     // `compare`: each scene is rendered twice, with the render plan and without.
     let compare_plan = env::var("MICRORAY_FW_PLAN").is_ok_and(|v| v == "compare");
     // `progressive`: each scene is rendered plainly, then in the progressive order into a
@@ -51,6 +57,13 @@ fn main() {
     assert!(
         !antialias || env::var_os("CARGO_FEATURE_ANTIALIAS").is_some(),
         "MICRORAY_FW_PLAN=antialias needs the firmware's `antialias` feature"
+    );
+    // `animate`: each scene with an `animation` plays it, every frame after the first
+    // rendered in its region and then whole (needs the firmware's `animate` feature).
+    let animate = env::var("MICRORAY_FW_PLAN").is_ok_and(|v| v == "animate");
+    assert!(
+        !animate || env::var_os("CARGO_FEATURE_ANIMATE").is_some(),
+        "MICRORAY_FW_PLAN=animate needs the firmware's `animate` feature"
     );
     // Objects a scene holds: the micro:bit's 16 KiB of RAM has room for a few; the MPS2
     // board's 4 MiB for the project's scene of a hundred spheres.
@@ -172,6 +185,8 @@ fn main() {
          pub const PROGRESSIVE: bool = {progressive};\n\
          pub const DITHER: bool = {dither};\n\
          pub const ANTIALIAS: bool = {antialias};\n\
+         #[allow(dead_code)] pub const ANIMATE: bool = {animate};\n\
+         #[allow(dead_code)] pub const FRAMES: u16 = {frames};\n\
          pub const RUN_STATIC: bool = {run_static};\npub const RUN_BASIC: bool = {run_basic};\n\
          {table}{skipped}"
     );

@@ -376,7 +376,7 @@ impl<const N: usize> Region<N> {
                 return;
             }
             let l = light.location.to_f64();
-            if plan::widened_vertices(object, l, S::MIN_NORMAL, &mut vertices).is_none() {
+            if plan::widened_vertices(object, l, S::MIN_NORMAL, true, &mut vertices).is_none() {
                 // Not bounded (an infinite plane), or a panel in line with the light.
                 return self.add_whole();
             }
@@ -568,6 +568,9 @@ impl Polygon {
             let (side, height) = (if above > 0.0 { 1.0 } else { -1.0 }, libm::fabs(above));
             // Kept: near or on the light's side of the plane (`d(P) >= -margin`, `d` the
             // distance on the light's side)...
+            if polygon.holds(n * side, margin - side * offset) {
+                continue;
+            }
             let lit = polygon.clipped(n * side, margin - side * offset);
             // ... or where the crossing `C = (h P - d(P) L) / (h - d(P))` may break the z
             // rule: `h (P.z - zl) - d(P) (L.z - zl) > -margin (h + |L.z - zl| + 1)`.
@@ -582,6 +585,15 @@ impl Polygon {
             }
         }
         polygon
+    }
+
+    /// Whether every corner has `a . P + b >= 0` (clipping would change nothing).
+    fn holds(&self, a: Vec3<f64>, b: f64) -> bool {
+        let (a2, b2) = ([a.dot(self.u), a.dot(self.v)], a.dot(self.origin) + b);
+        let corners = self.points.get(..self.len).unwrap_or(&[]);
+        corners
+            .iter()
+            .all(|p| a2[0] * p[0] + a2[1] * p[1] + b2 >= 0.0)
     }
 
     /// The part where `a . P + b >= 0` (Sutherland and Hodgman's step).

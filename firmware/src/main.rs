@@ -49,6 +49,8 @@ mod scenes {
     }
     include!(concat!(env!("OUT_DIR"), "/scenes.rs"));
 }
+#[cfg(feature = "animate")]
+use scenes::ANIMATE;
 #[cfg(feature = "full")]
 use scenes::RUN_STATIC;
 #[cfg(feature = "full")]
@@ -267,6 +269,174 @@ mod antialiasing {
         microray_count_stop();
         microray_count_frame();
         result.map(|_| ()).map_err(|_| "render failed")
+    }
+}
+
+/// The films of `MICRORAY_FW_PLAN=animate`.
+#[cfg(feature = "animate")]
+mod animating {
+    use super::*;
+    use microray::animation::Animation;
+    use microray::parse::parse_animation;
+    use microray::region::Region;
+
+    /// The most motions a film has.
+    const MOTIONS: usize = 4;
+
+    /// The most rectangles a frame's region keeps apart.
+    pub const AREAS: usize = 8;
+
+    /// A draw target that writes each row it is sent to a semihosting file as a patch:
+    /// `x`, `y` and the width (16 bits each, little-endian), then the pixels' RGB bytes.
+    struct PatchFile {
+        out: RowFile,
+    }
+
+    impl OriginDimensions for PatchFile {
+        fn size(&self) -> Size {
+            Size::new(u32::from(WIDTH), u32::from(HEIGHT))
+        }
+    }
+
+    impl DrawTarget for PatchFile {
+        type Color = Rgb;
+        type Error = ();
+
+        fn draw_iter<I: IntoIterator<Item = Pixel<Rgb>>>(&mut self, _: I) -> Result<(), ()> {
+            Err(())
+        }
+
+        fn fill_contiguous<I: IntoIterator<Item = Rgb>>(
+            &mut self,
+            area: &Rectangle,
+            colors: I,
+        ) -> Result<(), ()> {
+            microray_count_stop();
+            let mut header = [0u8; 6];
+            let (x, y, w) = (
+                area.top_left.x as u16,
+                area.top_left.y as u16,
+                area.size.width as u16,
+            );
+            header[..2].copy_from_slice(&x.to_le_bytes());
+            header[2..4].copy_from_slice(&y.to_le_bytes());
+            header[4..].copy_from_slice(&w.to_le_bytes());
+            let result = self.out.write(&header);
+            microray_count_start();
+            self.out.fill_contiguous(area, colors).and(result)
+        }
+    }
+
+    /// Plays the film of `file` (already loaded into `scene` and rendered at the firmware's
+    /// size as frame 0): each later frame `k` is rendered in its region into
+    /// `<name>+i<k>.rgb` (patches), then whole into `<name>+f<k>.rgb`, each counted and
+    /// reported (frame 0's report first), with a line `microray frame K region PIXELS` or
+    /// `microray frame K full` after each.
+    #[inline(never)]
+    pub fn play(file: &scenes::SceneFile, scene: &mut FirmwareScene) -> Result<(), &'static str> {
+        let animation: Option<Animation<'static, MOTIONS>> =
+            parse_animation(file.text.as_bytes()).map_err(|_| "the film does not load")?;
+        // What playing keeps in RAM besides the scene: the film and a frame's region.
+        for (what, bytes) in [
+            (
+                "animation",
+                core::mem::size_of::<Animation<'static, MOTIONS>>(),
+            ),
+            ("region", core::mem::size_of::<Region<AREAS>>()),
+        ] {
+            console::line(&[T("microray size "), T(what), T(" "), N(bytes)]);
+        }
+        report_frame(file.name, "", Ok(()));
+        console::line(&[T("microray frame 0 full")]);
+        let Some(animation) = animation else {
+            return Ok(());
+        };
+        let frames = match scenes::FRAMES {
+            0 => animation.frames(),
+            n => n.min(animation.frames()),
+        };
+        for k in 1..frames {
+            stack::paint();
+            let pixels = incremental(file.name, k, &animation, scene)?;
+            let name = suffix(b'i', k);
+            report_frame(file.name, core::str::from_utf8(&name).unwrap_or(""), Ok(()));
+            console::line(&[
+                T("microray frame "),
+                N(k.into()),
+                T(" region "),
+                N(pixels as usize),
+            ]);
+            stack::paint();
+            full(file.name, k, scene)?;
+            let name = suffix(b'f', k);
+            report_frame(file.name, core::str::from_utf8(&name).unwrap_or(""), Ok(()));
+            console::line(&[T("microray frame "), N(k.into()), T(" full")]);
+        }
+        Ok(())
+    }
+
+    /// The suffix of frame `k`'s file: `+i7`, `+f7`.
+    fn suffix(kind: u8, k: u16) -> microray::heapless::Vec<u8, 8> {
+        let mut text = microray::heapless::Vec::new();
+        let _ = text.extend_from_slice(&[b'+', kind]);
+        let mut digits = [0u8; 5];
+        let mut n = k;
+        let mut len = 0;
+        loop {
+            digits[len] = b'0' + (n % 10) as u8;
+            len += 1;
+            n /= 10;
+            if n == 0 {
+                break;
+            }
+        }
+        for &d in digits[..len].iter().rev() {
+            let _ = text.push(d);
+        }
+        text
+    }
+
+    /// Frame `k` in its region: the scene moved, the region worked out, the plan rebuilt
+    /// and the region's rectangles rendered, all counted. Returns the region's pixels.
+    #[inline(never)]
+    fn incremental(
+        name: &str,
+        k: u16,
+        animation: &Animation<'static, MOTIONS>,
+        scene: &mut FirmwareScene,
+    ) -> Result<u32, &'static str> {
+        let suffix = suffix(b'i', k);
+        let out = RowFile::create(name, core::str::from_utf8(&suffix).unwrap_or("+i"))?;
+        let mut patches = PatchFile { out };
+        let mut row = [Rgb::default(); WIDTH as usize];
+        RENDER_BASE.store(stack::depth(), Ordering::Relaxed);
+        microray_count_start();
+        let mut region = Region::<AREAS>::new(Size::new(u32::from(WIDTH), u32::from(HEIGHT)));
+        let moved = animation.show_frame(k, scene, &mut region);
+        let renderer = Renderer::new(&*scene);
+        let mut result = moved.map_err(|_| "a frame does not load");
+        for area in region.rectangles() {
+            let drawn =
+                renderer.render_area(&mut patches, area, &mut row, |_| ControlFlow::Continue(()));
+            if drawn.is_err() {
+                result = Err("render failed");
+            }
+        }
+        microray_count_stop();
+        microray_count_frame();
+        result.map(|()| region.pixels())
+    }
+
+    /// Frame `k` whole (the scene already moved): the plan built and every row rendered.
+    #[inline(never)]
+    fn full(name: &str, k: u16, scene: &FirmwareScene) -> Result<(), &'static str> {
+        let suffix = suffix(b'f', k);
+        render_frame(
+            name,
+            core::str::from_utf8(&suffix).unwrap_or("+f"),
+            scene,
+            true,
+        )
     }
 }
 
@@ -650,6 +820,14 @@ fn main() -> ! {
                 stack::paint();
                 render_to_file(file.name, &mut scene)
             });
+            // A film reports each of its frames.
+            #[cfg(feature = "animate")]
+            if ANIMATE {
+                if let Err(why) = result.and_then(|()| animating::play(file, &mut scene)) {
+                    report_frame(file.name, "", Err(why));
+                }
+                continue;
+            }
             report(file.name, result);
         }
         if RUN_STATIC {

@@ -232,7 +232,7 @@ fn shadow_points<S: Scalar>(
     points: &mut [Vec3<f64>; 8],
 ) -> Option<()> {
     let l = light.location.to_f64();
-    widened_vertices(object, l, S::MIN_NORMAL, points)?;
+    widened_vertices(object, l, S::MIN_NORMAL, false, points)?;
     let plane = objects.get(usize::from(receiver))?.infinite_plane()?;
     let n = plane.unit_normal.to_f64();
     let offset = plane.n_dot_point.to_f64();
@@ -310,12 +310,14 @@ fn bounded<S: Scalar>(object: &Object<S>) -> bool {
 }
 
 /// Into `vertices`, the vertices of a polytope holding `object` widened by the module's
-/// margins (seen from a light at `l`): a box about a ball, a slab about a panel; `None`
-/// for other kinds and for a panel nearly in line with the light.
+/// margins (seen from a light at `l`): a cube about a ball (along the axes, or with
+/// `facing_the_light` turned to face it), a slab about a panel; `None` for other kinds and
+/// for a panel nearly in line with the light.
 pub(crate) fn widened_vertices<S: Scalar>(
     object: &Object<S>,
     l: Vec3<f64>,
     resolution: f64,
+    facing_the_light: bool,
     vertices: &mut [Vec3<f64>; 8],
 ) -> Option<()> {
     let margin = |points: &[Vec3<f64>]| {
@@ -335,11 +337,53 @@ pub(crate) fn widened_vertices<S: Scalar>(
     let reach = Vec3::new(radius, radius, radius);
     let m = margin(&[center - reach, center + reach]);
     let r = radius + m;
+    // With `facing_the_light`, a cube about the ball turned to face the light: its shadow
+    // hugs the ball's (a cube along the axes casts one up to sqrt 3 wider across), for two
+    // square roots (the plan's boxes keep the axes: soft float's `f64` on every render).
+    if cfg!(feature = "animate") && facing_the_light {
+        let [a, u, w] = facing(center - l);
+        for (i, v) in vertices.iter_mut().enumerate() {
+            let sign = |bit: usize| if i & bit == 0 { -r } else { r };
+            *v = center + a * sign(4) + u * sign(2) + w * sign(1);
+        }
+        return Some(());
+    }
     for (i, v) in vertices.iter_mut().enumerate() {
         let sign = |bit: usize| if i & bit == 0 { -r } else { r };
         *v = center + Vec3::new(sign(4), sign(2), sign(1));
     }
     Some(())
+}
+
+/// Three orthogonal unit vectors, the first along `d` (the axes when `d` is zero or the
+/// roots fail: a cube along them holds the ball as well).
+fn facing(d: Vec3<f64>) -> [Vec3<f64>; 3] {
+    let axes = [
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(0.0, 1.0, 0.0),
+        Vec3::new(0.0, 0.0, 1.0),
+    ];
+    let unit = |v: Vec3<f64>| {
+        let length = libm::sqrt(v.dot(v));
+        (length > 0.0 && length.is_finite()).then(|| v * (1.0 / length))
+    };
+    let Some(a) = unit(d) else {
+        return axes;
+    };
+    // The axis least along `a` gives the second direction.
+    let [ex, ey, ez] = axes;
+    let (x, y, z) = (libm::fabs(a.x), libm::fabs(a.y), libm::fabs(a.z));
+    let least = if x <= y && x <= z {
+        ex
+    } else if y <= z {
+        ey
+    } else {
+        ez
+    };
+    match unit(a.cross(least)) {
+        Some(u) => [a, u, a.cross(u)],
+        None => axes,
+    }
 }
 
 /// `|v|_1`, at least `|v|` (without a square root: soft float's are slow).

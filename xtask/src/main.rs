@@ -15,6 +15,7 @@
 //! - `cargo xtask pgo`: the std tracer built with profile-guided optimisation, trained on
 //!   the course's scenes (`target/pgo/use/release/microray`; see `xtask/src/pgo.rs`).
 
+mod animation;
 mod bench;
 mod host_profile;
 mod pgo;

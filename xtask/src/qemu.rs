@@ -44,6 +44,11 @@ pub(crate) struct Options {
     /// Render each scene plainly and anti-aliased with 4, 9 and 16 samples a pixel and
     /// adaptively (`SCENE+aa4`, `+aa9`, `+aa16`, `+adaptive`); the M4F board only.
     pub(crate) antialias: bool,
+    /// Play each film (`scenes/` with an `animation`): every frame after the first in its
+    /// region (`SCENE+iK`) and whole (`SCENE+fK`), both compared with the host's full frame.
+    pub(crate) animations: bool,
+    /// With `animations`: only each film's first frames (`MICRORAY_FW_FRAMES`).
+    pub(crate) frames: Option<u16>,
     /// The minimal firmware: no optional microray feature, the `basic` scene only.
     pub(crate) minimal: bool,
     /// The optimisation level of the firmware build (`CARGO_PROFILE_RELEASE_OPT_LEVEL`),
@@ -72,12 +77,12 @@ struct Variant<'a> {
 }
 
 /// One firmware build: a machine and a number type.
-struct Build {
-    machine: &'static str,
+pub(crate) struct Build {
+    pub(crate) machine: &'static str,
     cpu: &'static str,
     target: &'static str,
     feature: &'static str,
-    number: &'static str,
+    pub(crate) number: &'static str,
 }
 
 const BUILDS: [Build; 4] = [
@@ -160,6 +165,11 @@ pub fn run(args: &[String]) -> Result<(), String> {
             "--progressive" => options.progressive = true,
             "--dither" => options.dither = true,
             "--antialias" => options.antialias = true,
+            "--animations" => options.animations = true,
+            "--frames" => {
+                let n = rest.next().ok_or("--frames takes a number")?;
+                options.frames = Some(n.parse().map_err(|_| "--frames takes a number")?);
+            }
             "--minimal" => options.minimal = true,
             "--opt-levels" => return opt_levels(),
             // The RAM table alone (spec0 at 320x240, both machines), printed.
@@ -178,7 +188,19 @@ pub fn run(args: &[String]) -> Result<(), String> {
         .and_then(|(w, h)| Some((w.parse::<u16>().ok()?, h.parse::<u16>().ok()?)))
         .ok_or("--size takes WIDTHxHEIGHT")?;
     let root = root()?;
+    if options.animations && options.only.is_empty() {
+        options.only = crate::animation::FILMS.join(",");
+    }
     let mut measurement = measure(&root, width, height, &options)?;
+    if options.animations {
+        let table = crate::animation::table(&measurement.rows, width, height, options.frames);
+        println!("{table}");
+        if options.frames.is_none() && options.build.is_none() {
+            let table = format!("{table}{}", crate::animation::flash(&root)?);
+            crate::animation::write_table(&root, &table)?;
+        }
+        return measurement.check();
+    }
     if options.dither {
         let table = dither_table(&measurement.rows, width, height);
         println!("{table}");
@@ -501,6 +523,8 @@ pub(crate) fn measure(
                 "dither"
             } else if options.antialias {
                 "antialias"
+            } else if options.animations {
+                "animate"
             } else {
                 ""
             },
@@ -509,7 +533,15 @@ pub(crate) fn measure(
             // The minimal build is built for size (the firmware's `release-small` profile).
             small: options.minimal,
         };
-        let elf = build_firmware(root, build, conformance.as_deref(), &size, &variant)?;
+        let frames = options.frames.map(|n| n.to_string()).unwrap_or_default();
+        let elf = build_firmware(
+            root,
+            build,
+            conformance.as_deref(),
+            &size,
+            &variant,
+            &frames,
+        )?;
         let (markers, size) = inspect(&elf)?;
         let out = root.join("target/qemu").join(&name);
         let _ = std::fs::remove_dir_all(&out);
@@ -518,7 +550,11 @@ pub(crate) fn measure(
         let profiling = options.profile.is_some();
         let (console, log) = run_qemu(build, &elf, &plugin, markers, &out, profiling)?;
         eprintln!("{name}: ran in {:.1} s", started.elapsed().as_secs_f64());
-        let frames = compare(build, &console, &log, &out, &scenes, width, height)?;
+        let frames = if options.animations {
+            crate::animation::compare(build, &console, &log, &out, &scenes, width, height)?
+        } else {
+            compare(build, &console, &log, &out, &scenes, width, height)?
+        };
         if profiling {
             let counts = profile::frame_counts(&log);
             let mut symbolizer = profile::Symbolizer::new(&elf)?;
@@ -649,7 +685,7 @@ pub(crate) fn checked(command: &mut Command) -> Result<(), String> {
     }
 }
 
-fn build_plugin(root: &Path) -> Result<PathBuf, String> {
+pub(crate) fn build_plugin(root: &Path) -> Result<PathBuf, String> {
     cargo(&["build", "--release", "-p", "icount"], root, &[])?;
     Ok(root.join("target/release/libicount.so"))
 }
@@ -660,8 +696,12 @@ fn build_firmware(
     conformance: Option<&Path>,
     size: &str,
     variant: &Variant<'_>,
+    frames: &str,
 ) -> Result<PathBuf, String> {
     let mut features = format!("{},{}", build.feature, build.number);
+    if variant.plan == "animate" {
+        features.push_str(",animate");
+    }
     if variant.full && !variant.extensions {
         features.push_str(",full");
     }
@@ -677,6 +717,7 @@ fn build_firmware(
         ("MICRORAY_FW_SIZE", size),
         ("MICRORAY_FW_ONLY", only),
         ("MICRORAY_FW_PLAN", plan),
+        ("MICRORAY_FW_FRAMES", frames),
     ];
     if !conformance.is_empty() {
         envs.push(("MICRORAY_CONFORMANCE", conformance.as_str()));
@@ -720,6 +761,32 @@ fn build_firmware(
     Ok(copy)
 }
 
+/// The flash of the full firmware for `machine` and `number` embedding `only`, built for
+/// `plan` (`MICRORAY_FW_PLAN`; `animate` adds the `animate` feature).
+pub(crate) fn flash_of(
+    root: &Path,
+    machine: &str,
+    number: &str,
+    only: &str,
+    plan: &str,
+) -> Result<u64, String> {
+    let build = BUILDS
+        .iter()
+        .find(|b| b.machine == machine && b.number == number)
+        .ok_or(format!("no build {machine} {number}"))?;
+    let variant = Variant {
+        only,
+        plan,
+        full: true,
+        extensions: true,
+        small: false,
+        opt_level: "",
+    };
+    let conformance = conformance_dir(root);
+    let elf = build_firmware(root, build, conformance.as_deref(), "160x120", &variant, "")?;
+    Ok(inspect(&elf)?.1.flash)
+}
+
 /// The markers' addresses (without the Thumb bit) and the flash and RAM the build takes.
 fn inspect(elf: &Path) -> Result<([u64; 3], Size), String> {
     let bytes = std::fs::read(elf).map_err(|e| e.to_string())?;
@@ -753,7 +820,7 @@ fn inspect(elf: &Path) -> Result<([u64; 3], Size), String> {
     Ok((markers, size))
 }
 
-fn run_qemu(
+pub(crate) fn run_qemu(
     build: &Build,
     elf: &Path,
     plugin: &Path,
@@ -1039,7 +1106,7 @@ fn flash_by_part(root: &Path, conformance: Option<&Path>, size: &str) -> Result<
                 small,
                 opt_level: "",
             };
-            let elf = build_firmware(root, build, conformance, size, &variant)?;
+            let elf = build_firmware(root, build, conformance, size, &variant, "")?;
             Ok((inspect(&elf)?.1.flash, profile::flash_parts(&elf)?))
         };
         let (minimal, minimal_parts) = flash("basic", false, true)?;

@@ -305,6 +305,25 @@ pub(crate) fn flash(root: &Path) -> Result<String, String> {
     Ok(out)
 }
 
+/// The film's and the region's bytes for a build (`mps2-an386-f32`, `microbit-fixed`), read
+/// from docs/animation.md's RAM table (empty before `--animations` has written it).
+pub(crate) fn ram_of(root: &Path, build: &str) -> Vec<(&'static str, u64)> {
+    let text = std::fs::read_to_string(root.join("docs/animation.md")).unwrap_or_default();
+    let (machine, number) = build.rsplit_once('-').unwrap_or((build, ""));
+    let number = if number == "fixed" { "i16f16" } else { number };
+    for line in text.lines() {
+        let cells: Vec<&str> = line.split('|').map(str::trim).collect();
+        if let ["", m, n, film, region, _, _, ""] = cells.as_slice()
+            && *m == machine
+            && *n == number
+        {
+            let bytes = |v: &str| v.parse().unwrap_or(0);
+            return vec![("film", bytes(film)), ("region", bytes(region))];
+        }
+    }
+    Vec::new()
+}
+
 /// Replaces docs/animation.md's table (from its heading to the end).
 pub(crate) fn write_table(root: &Path, table: &str) -> Result<(), String> {
     let path = root.join("docs/animation.md");

@@ -338,6 +338,10 @@ fn ram_by_part(root: &Path, all: &[Row]) -> Result<String, String> {
             deepest_scenes.push(format!("{} on {name}", deepest.scene));
         }
         values.insert("total".into(), spec0.size.ram + spec0.stack);
+        // What playing a film keeps besides (the `animate` builds, docs/animation.md).
+        for (key, bytes) in crate::animation::ram_of(root, name) {
+            values.insert(key.into(), bytes);
+        }
         columns.push((name, values));
     }
     let rows = [
@@ -370,6 +374,11 @@ fn ram_by_part(root: &Path, all: &[Row]) -> Result<String, String> {
         ("spec0 render", "peak stack while rendering"),
         ("static", "static RAM (`.data + .bss`)"),
         ("total", "**static RAM + peak stack**"),
+        (
+            "film",
+            "playing a film (`animate`, docs/animation.md): the film (`Animation<4>`)",
+        ),
+        ("region", "- a frame's region (`Region<8>`)"),
     ];
     let mut out = String::from(
         "\n## RAM by part: spec0 at 320x240\n\n\

@@ -1,17 +1,22 @@
 //! A bounded byte fuzz that `cargo test` runs: 100,000 mutations of the project's own scenes
 //! (bytes flipped, inserted, deleted, blocks spliced), each parsed in every number type and,
-//! when it loads, rendered at 8x6. Nothing may panic (overflow checks are on in tests).
+//! when it loads, rendered at 8x6 (a film's first frames too, each in its region). Nothing
+//! may panic (overflow checks are on in tests).
 //! The open-ended fuzzers are in `fuzz/` (`cargo +nightly fuzz run parse`).
 
 use embedded_graphics::pixelcolor::Rgb888;
 use embedded_graphics::prelude::*;
 use microray::Scalar;
+use microray::Scene;
 use microray::error::TextureError;
-use microray::parse::parse_scene;
+use microray::parse::{parse_animation, parse_scene};
+use microray::region::Region;
+use microray::render::Renderer;
 use microray::render::render;
 use microray::scalar::I16F16;
 use proptest::prelude::*;
 use std::convert::Infallible;
+use std::ops::ControlFlow;
 use std::path::Path;
 use std::sync::OnceLock;
 
@@ -66,8 +71,29 @@ fn run<S: Scalar>(bytes: &[u8]) -> bool {
         let mut sink = Sink(0);
         let _ = render(&scene, &mut sink);
         assert_eq!(sink.0, 48);
+        play(bytes, &mut scene);
     }
     true
+}
+
+/// A film's first frames, each rendered in its region: every pixel of the region drawn.
+fn play<S: Scalar>(bytes: &[u8], scene: &mut Scene<'_, S, 128, 16, 8, 2, 1024>) {
+    let Ok(Some(animation)) = parse_animation::<4>(bytes) else {
+        return;
+    };
+    for frame in 1..animation.frames().min(3) {
+        let mut region = Region::<4>::new(Size::new(8, 6));
+        let moved = animation.show_frame(frame, scene, &mut region);
+        let renderer = Renderer::new(&*scene);
+        let mut sink = Sink(0);
+        let mut row = [Rgb888::BLACK; 8];
+        for area in region.rectangles() {
+            let _ = renderer.render_area(&mut sink, area, &mut row, |_| ControlFlow::Continue(()));
+        }
+        if moved.is_ok() {
+            assert_eq!(sink.0 as u32, region.pixels());
+        }
+    }
 }
 
 #[derive(Clone, Debug)]

@@ -238,9 +238,8 @@ impl<'a, const MOTIONS: usize> Animation<'a, MOTIONS> {
         scene: &mut Scene<'_, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>,
         region: &mut Region<N>,
     ) -> Result<(), ErrorKind> {
-        // Each changed object's old state, for the region once every change is made.
-        let mut olds = Vec::<(usize, crate::object::Object<S>), MOTIONS>::new();
         let mut result = Ok(());
+        let mut moved_objects = false;
         for (i, motion) in self.motions.iter().enumerate() {
             let target = &motion.target;
             // Once a target: its first motion adds up all of them.
@@ -251,13 +250,16 @@ impl<'a, const MOTIONS: usize> Animation<'a, MOTIONS> {
             let done = match *target {
                 Target::Object { index, def } => {
                     let index = usize::from(index);
-                    let replaced = scene.replace_object(index, &moved_object(def, to));
-                    // Cannot fail (a slot a motion); if it did, the whole frame holds it.
-                    replaced.map(|old| {
-                        if olds.push((index, old)).is_err() {
-                            region.add_whole();
-                        }
-                    })
+                    // The old state's region now, with the other objects as they are: a
+                    // pixel on one that moves too is in that one's own region (no copy of
+                    // the old object kept: stack on a Cortex-M0).
+                    if let Some(old) = scene.objects().get(index) {
+                        region.add_object_state(&(&*scene).into(), old);
+                    }
+                    moved_objects = true;
+                    scene
+                        .replace_object(index, &moved_object(def, to))
+                        .map(drop)
                 }
                 Target::Light { index, def } => {
                     let moved = LightDef {
@@ -273,8 +275,23 @@ impl<'a, const MOTIONS: usize> Animation<'a, MOTIONS> {
                 break;
             }
         }
-        for (index, old) in &olds {
-            region.add_object_change(&*scene, *index, old);
+        // Every change made: the new states, and what mirrors and glass show.
+        let parts = (&*scene).into();
+        for (i, motion) in self.motions.iter().enumerate() {
+            let first = !self
+                .motions
+                .iter()
+                .take(i)
+                .any(|m| m.target.same(&motion.target));
+            if let (true, Target::Object { index, .. }) = (first, motion.target) {
+                match scene.objects().get(usize::from(index)) {
+                    Some(new) => region.add_object_state(&parts, new),
+                    None => region.add_whole(),
+                }
+            }
+        }
+        if moved_objects {
+            region.add_seen_beyond(&parts);
         }
         result
     }

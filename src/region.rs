@@ -368,7 +368,7 @@ impl<const N: usize> Region<N> {
     }
 
     /// `object`'s outline and where its shadows can fall, from every light.
-    fn add_object_state<S: Scalar>(&mut self, scene: &Parts<'_, S>, object: &Object<S>) {
+    pub(crate) fn add_object_state<S: Scalar>(&mut self, scene: &Parts<'_, S>, object: &Object<S>) {
         self.add_box(plan::footprint(scene.camera, object));
         let mut vertices = [Vec3::ZERO; 8];
         for light in scene.lights {
@@ -434,7 +434,7 @@ impl<const N: usize> Region<N> {
 
     /// The outlines of every mirror and transparent object: what their pixels show comes
     /// from rays that may meet anything.
-    fn add_seen_beyond<S: Scalar>(&mut self, scene: &Parts<'_, S>) {
+    pub(crate) fn add_seen_beyond<S: Scalar>(&mut self, scene: &Parts<'_, S>) {
         let onward = |m: u16| {
             scene.materials.get(usize::from(m)).is_some_and(|m| {
                 (cfg!(feature = "reflection") && m.reflects())
@@ -486,7 +486,7 @@ impl<
 }
 
 /// The most corners a shadow's polygon keeps.
-const POLYGON: usize = 24;
+const POLYGON: usize = 16;
 
 /// A convex polygon in a plane, counter-clockwise in the plane's coordinates `(x, y)`:
 /// `origin + x u + y v`.

@@ -142,6 +142,16 @@ fn main() {
             writeln!(skipped, "    ({name:?}, {why:?}),").unwrap();
             continue;
         }
+        // A film needs the `animate` feature to load (its motion blocks); the other builds
+        // leave it out, as a build leaves out a scene whose kinds it lacks.
+        let film = text
+            .lines()
+            .any(|l| l.split_whitespace().next() == Some("animation"));
+        if film && env::var_os("CARGO_FEATURE_ANIMATE").is_none() {
+            let why = "a film: it needs the firmware's `animate` feature (`cargo xtask qemu --animations`)";
+            writeln!(skipped, "    ({name:?}, {why:?}),").unwrap();
+            continue;
+        }
         // The library's count, as a firmware author's `const` would make it.
         let needs = Capacities::of_text(text.as_bytes());
         let count = needs.objects;

@@ -210,6 +210,18 @@ impl<'a, const MOTIONS: usize> Animation<'a, MOTIONS> {
         &self.motions
     }
 
+    /// Each target once (its first motion's: [`offset`](Self::offset) adds up all of them).
+    fn targets(&self) -> impl Iterator<Item = &Target<'a>> + '_ {
+        let motions = &self.motions;
+        motions.iter().enumerate().filter_map(move |(i, motion)| {
+            let first = !motions
+                .iter()
+                .take(i)
+                .any(|m| m.target.same(&motion.target));
+            first.then_some(&motion.target)
+        })
+    }
+
     /// Where frame `frame` moves `target` from its written place: the sum of its motions.
     pub fn offset(&self, frame: u16, target: &Target<'_>) -> [f64; 3] {
         let mut sum = [0.0; 3];
@@ -240,12 +252,7 @@ impl<'a, const MOTIONS: usize> Animation<'a, MOTIONS> {
     ) -> Result<(), ErrorKind> {
         let mut result = Ok(());
         let mut moved_objects = false;
-        for (i, motion) in self.motions.iter().enumerate() {
-            let target = &motion.target;
-            // Once a target: its first motion adds up all of them.
-            if self.motions.iter().take(i).any(|m| m.target.same(target)) {
-                continue;
-            }
+        for target in self.targets() {
             let to = add(target.point(), self.offset(frame, target));
             let done = match *target {
                 Target::Object { index, def } => {
@@ -277,13 +284,8 @@ impl<'a, const MOTIONS: usize> Animation<'a, MOTIONS> {
         }
         // Every change made: the new states, and what mirrors and glass show.
         let parts = (&*scene).into();
-        for (i, motion) in self.motions.iter().enumerate() {
-            let first = !self
-                .motions
-                .iter()
-                .take(i)
-                .any(|m| m.target.same(&motion.target));
-            if let (true, Target::Object { index, .. }) = (first, motion.target) {
+        for target in self.targets() {
+            if let Target::Object { index, .. } = *target {
                 match scene.objects().get(usize::from(index)) {
                     Some(new) => region.add_object_state(&parts, new),
                     None => region.add_whole(),

@@ -112,9 +112,13 @@ impl From<Rgb888> for Rgb {
 /// semihosting calls few.
 const CHUNK: usize = 32;
 
-/// A draw target that writes each row, as RGB bytes, to a semihosting file.
+/// A draw target that writes each row, as RGB bytes, to a semihosting file; as patches
+/// (see [`RowFile::patches`]), each row after its place.
 struct RowFile {
     handle: usize,
+    /// Rows as patches (only films draw parts of the picture: no field elsewhere).
+    #[cfg(feature = "animate")]
+    patches: bool,
 }
 
 impl OriginDimensions for RowFile {
@@ -141,6 +145,14 @@ impl DrawTarget for RowFile {
         let mut bytes = [0u8; 3 * CHUNK];
         let (mut n, mut total) = (0, 0);
         let mut result = Ok(());
+        #[cfg(feature = "animate")]
+        if self.patches {
+            let place = [area.top_left.x, area.top_left.y, area.size.width as i32];
+            for (i, v) in place.into_iter().enumerate() {
+                bytes[2 * i..2 * i + 2].copy_from_slice(&(v as u16).to_le_bytes());
+            }
+            result = self.write(&bytes[..6]);
+        }
         for c in colors {
             bytes[n..n + 3].copy_from_slice(&c.0);
             n += 3;
@@ -183,7 +195,19 @@ impl RowFile {
         if handle == usize::MAX {
             return Err("cannot open the output file");
         }
-        Ok(Self { handle })
+        Ok(Self {
+            handle,
+            #[cfg(feature = "animate")]
+            patches: false,
+        })
+    }
+
+    /// The same file written as patches: each row after its `x`, `y` and width (16 bits
+    /// each, little-endian), for frames that draw only parts of the picture.
+    #[cfg(feature = "animate")]
+    fn patches(mut self) -> Self {
+        self.patches = true;
+        self
     }
 
     fn write(&self, bytes: &[u8]) -> Result<(), ()> {
@@ -286,47 +310,6 @@ mod animating {
     /// The most rectangles a frame's region keeps apart.
     pub const AREAS: usize = 8;
 
-    /// A draw target that writes each row it is sent to a semihosting file as a patch:
-    /// `x`, `y` and the width (16 bits each, little-endian), then the pixels' RGB bytes.
-    struct PatchFile {
-        out: RowFile,
-    }
-
-    impl OriginDimensions for PatchFile {
-        fn size(&self) -> Size {
-            Size::new(u32::from(WIDTH), u32::from(HEIGHT))
-        }
-    }
-
-    impl DrawTarget for PatchFile {
-        type Color = Rgb;
-        type Error = ();
-
-        fn draw_iter<I: IntoIterator<Item = Pixel<Rgb>>>(&mut self, _: I) -> Result<(), ()> {
-            Err(())
-        }
-
-        fn fill_contiguous<I: IntoIterator<Item = Rgb>>(
-            &mut self,
-            area: &Rectangle,
-            colors: I,
-        ) -> Result<(), ()> {
-            microray_count_stop();
-            let mut header = [0u8; 6];
-            let (x, y, w) = (
-                area.top_left.x as u16,
-                area.top_left.y as u16,
-                area.size.width as u16,
-            );
-            header[..2].copy_from_slice(&x.to_le_bytes());
-            header[2..4].copy_from_slice(&y.to_le_bytes());
-            header[4..].copy_from_slice(&w.to_le_bytes());
-            let result = self.out.write(&header);
-            microray_count_start();
-            self.out.fill_contiguous(area, colors).and(result)
-        }
-    }
-
     /// Plays the film of `file` (already loaded into `scene` and rendered at the firmware's
     /// size as frame 0): each later frame `k` is rendered in its region into
     /// `<name>+i<k>.rgb` (patches), then whole into `<name>+f<k>.rgb`, each counted and
@@ -407,7 +390,7 @@ mod animating {
     ) -> Result<u32, &'static str> {
         let suffix = suffix(b'i', k);
         let out = RowFile::create(name, core::str::from_utf8(&suffix).unwrap_or("+i"))?;
-        let mut patches = PatchFile { out };
+        let mut patches = out.patches();
         let mut row = [Rgb::default(); WIDTH as usize];
         RENDER_BASE.store(stack::depth(), Ordering::Relaxed);
         microray_count_start();

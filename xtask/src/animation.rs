@@ -86,8 +86,8 @@ fn patched(frame: &[u8], bytes: &[u8], width: u16) -> Option<Vec<u8>> {
     Some(out)
 }
 
-/// The rows of an animated build's run: each frame's count, with the region's pixels in
-/// `vsqrt`'s place for incremental frames (`vdiv` and `vsqrt` are not measured here).
+/// The rows of an animated build's run: each frame's count, with the region's pixels for
+/// the frames rendered in their region.
 pub(crate) fn compare(
     build: &Build,
     console: &str,
@@ -97,13 +97,7 @@ pub(crate) fn compare(
     width: u16,
     height: u16,
 ) -> Result<Vec<Row>, String> {
-    let mut counts = log.lines().filter_map(|line| {
-        let words: Vec<&str> = line.split_whitespace().collect();
-        match words.as_slice() {
-            ["icount", "frame", _, "insns", i, ..] => i.parse::<u64>().ok(),
-            _ => None,
-        }
-    });
+    let mut counts = crate::qemu::frame_totals(log);
     let mut host: BTreeMap<String, Result<Vec<Vec<u8>>, String>> = BTreeMap::new();
     // The firmware's frames so far, per film, rebuilt from its patches.
     let mut shown: BTreeMap<String, Vec<u8>> = BTreeMap::new();
@@ -144,7 +138,7 @@ pub(crate) fn compare(
             _ => (None, None),
         };
         let k = k.ok_or(format!("{name}: no frame line after its report"))?;
-        let insns = counts
+        let (insns, vdiv, vsqrt) = counts
             .next()
             .ok_or(format!("no instruction count for {name}"))?;
         let film = name.split('+').next().unwrap_or(&name).to_string();
@@ -190,11 +184,12 @@ pub(crate) fn compare(
             number: build.number,
             identical,
             insns,
-            vdiv: 0,
-            vsqrt: pixels.unwrap_or(0),
+            vdiv,
+            vsqrt,
             stack,
             renderer_stack: 0,
             size: Size { flash: 0, ram: 0 },
+            region: pixels,
         });
     }
     Ok(rows)
@@ -241,7 +236,7 @@ pub(crate) fn table(rows: &[Row], width: u16, height: u16, frames: Option<u16>) 
             let n = picked.len().max(1) as f64;
             (
                 picked.iter().map(|r| r.insns as f64).sum::<f64>() / n,
-                picked.iter().map(|r| r.vsqrt as f64).sum::<f64>() / n,
+                picked.iter().filter_map(|r| r.region).sum::<u64>() as f64 / n,
             )
         };
         let (full, _) = mean("f");

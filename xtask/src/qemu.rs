@@ -130,6 +130,8 @@ pub(crate) struct Row {
     pub(crate) renderer_stack: u64,
     /// Flash and static RAM of the build that rendered it.
     pub(crate) size: Size,
+    /// For a film's frame rendered in its region, the region's pixels.
+    pub(crate) region: Option<u64>,
 }
 
 impl Row {
@@ -944,6 +946,19 @@ pub(crate) fn host_render<S: Scalar>(
     Ok(image.rgb().to_vec())
 }
 
+/// Each frame's instructions, VDIVs and VSQRTs, in order, from the plugin's log.
+pub(crate) fn frame_totals(log: &str) -> impl Iterator<Item = (u64, u64, u64)> + '_ {
+    log.lines().filter_map(|line| {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        match words.as_slice() {
+            ["icount", "frame", _, "insns", i, "vdiv", d, "vsqrt", q] => {
+                Some((i.parse().ok()?, d.parse().ok()?, q.parse().ok()?))
+            }
+            _ => None,
+        }
+    })
+}
+
 fn compare(
     build: &Build,
     console: &str,
@@ -953,15 +968,7 @@ fn compare(
     width: u16,
     height: u16,
 ) -> Result<Vec<Row>, String> {
-    let mut frames = log.lines().filter_map(|line| {
-        let words: Vec<&str> = line.split_whitespace().collect();
-        match words.as_slice() {
-            ["icount", "frame", _, "insns", i, "vdiv", d, "vsqrt", q] => {
-                Some((i.parse().ok()?, d.parse().ok()?, q.parse().ok()?))
-            }
-            _ => None,
-        }
-    });
+    let mut frames = frame_totals(log);
     let mut rows = Vec::new();
     for line in console.lines() {
         let words: Vec<&str> = line.split_whitespace().collect();
@@ -1039,6 +1046,7 @@ fn compare(
             stack,
             renderer_stack,
             size: Size { flash: 0, ram: 0 },
+            region: None,
         });
     }
     Ok(rows)

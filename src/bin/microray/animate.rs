@@ -6,7 +6,8 @@ use super::{
     to_depth, warnings, write_whole,
 };
 use crate::output::{Format, is_stdio};
-use embedded_graphics::prelude::{OriginDimensions, Point};
+use embedded_graphics::pixelcolor::Rgb888;
+use embedded_graphics::prelude::Point;
 use embedded_graphics::primitives::Rectangle;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use microray::Scalar;
@@ -92,6 +93,12 @@ pub(crate) fn animate<S: Scalar>(
     let mut region = Region::<AREAS>::new(size).with_border(border);
     let mut image = Framebuffer::new(size);
     let mut traced = 0u64;
+    // A row, and anti-aliasing's rows, for every rectangle of every frame.
+    let width = size.width as usize;
+    let mut buffers = (
+        vec![Default::default(); width],
+        vec![AaPixel::NEW; Antialias::buffer_len(size.width as u16)],
+    );
     let start = Instant::now();
     write_whole(output, |out| {
         let encoding = |e: png::EncodingError| cannot_write(output, std::io::Error::other(e));
@@ -117,20 +124,23 @@ pub(crate) fn animate<S: Scalar>(
                 .with_shading(options.shading)
                 .with_plan(options.planned);
             for area in region.rectangles() {
-                draw(&renderer, &mut image, area, options.aa)
+                draw(&renderer, &mut image, area, options.aa, &mut buffers)
                     .map_err(|e| format!("{name}: error: frame {frame}: {e}"))?;
             }
             traced += u64::from(region.pixels());
-            let mut shown_image = image.clone();
-            to_depth(shown_image.rgb_mut(), size.width as usize, 0, options.depth);
             // Only the region's bounding box is stored: the player keeps the rest.
             let (x, y, w, h) = bounding_box(&region, size);
+            let mut part = cut(image.rgb(), size.width, (x, y, w, h));
+            to_depth(
+                &mut part,
+                w as usize,
+                (x as usize, y as usize),
+                options.depth,
+            );
             writer.reset_frame_position().map_err(encoding)?;
             writer.set_frame_dimension(w, h).map_err(encoding)?;
             writer.set_frame_position(x, y).map_err(encoding)?;
-            writer
-                .write_image_data(&cut(shown_image.rgb(), size.width, (x, y, w, h)))
-                .map_err(encoding)?;
+            writer.write_image_data(&part).map_err(encoding)?;
             if let Some(bar) = &bar {
                 bar.inc(1);
             }
@@ -162,18 +172,12 @@ fn draw<S: Scalar>(
     image: &mut Framebuffer,
     area: Rectangle,
     aa: Option<Antialias>,
+    (row, aa_rows): &mut (Vec<Rgb888>, Vec<AaPixel>),
 ) -> Result<(), String> {
-    let width = image.size().width as usize;
     let go_on = |_| ControlFlow::Continue(());
     let done = match aa {
-        Some(aa) => {
-            let mut buffer = vec![AaPixel::NEW; Antialias::buffer_len(width as u16)];
-            renderer.render_antialiased(image, area, aa, &mut buffer, go_on)
-        }
-        None => {
-            let mut row = vec![Default::default(); width];
-            renderer.render_area(image, area, &mut row, go_on)
-        }
+        Some(aa) => renderer.render_antialiased(image, area, aa, aa_rows, go_on),
+        None => renderer.render_area(image, area, row, go_on),
     };
     done.map(|_| ()).map_err(|e| e.to_string())
 }

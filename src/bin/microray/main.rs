@@ -630,9 +630,9 @@ enum Output {
     Rgb565Dithered,
 }
 
-/// Rows of the picture (`top` the first, `width` pixels each, three bytes a pixel) as a
-/// panel of `depth` shows them, expanded back to 8 bits per channel.
-fn to_depth(rgb: &mut [u8], width: usize, top: usize, depth: Output) {
+/// Rows of the picture (`width` pixels each from column `left`, `top` the first, three bytes
+/// a pixel) as a panel of `depth` shows them, expanded back to 8 bits per channel.
+fn to_depth(rgb: &mut [u8], width: usize, (left, top): (usize, usize), depth: Output) {
     use embedded_graphics::pixelcolor::{Rgb565, Rgb888, RgbColor};
     use embedded_graphics::prelude::Point;
     use microray::dither::{dither_rgb565, truncate_rgb565};
@@ -640,7 +640,7 @@ fn to_depth(rgb: &mut [u8], width: usize, top: usize, depth: Output) {
         return;
     }
     for (i, c) in rgb.chunks_exact_mut(3).enumerate() {
-        let p = Point::new((i % width) as i32, (top + i / width) as i32);
+        let p = Point::new((left + i % width) as i32, (top + i / width) as i32);
         let color = Rgb888::new(c[0], c[1], c[2]);
         let panel: Rgb565 = match depth {
             Output::Rgb565Dithered => dither_rgb565(color, p),
@@ -774,7 +774,7 @@ fn render_progressive<S: Scalar>(
             } else {
                 // The next pass draws on the picture itself: the panel's view is a copy.
                 let mut shown_image = image.clone();
-                to_depth(shown_image.rgb_mut(), size.width as usize, 0, depth);
+                to_depth(shown_image.rgb_mut(), size.width as usize, (0, 0), depth);
                 write_framebuffer(&shown_image, format, &target)?;
             }
         }
@@ -855,7 +855,7 @@ fn render_rows<S: Scalar>(
             options.aa,
             progress,
             |top, pixels: &mut [u8]| {
-                to_depth(pixels, width, top, depth);
+                to_depth(pixels, width, (0, top), depth);
                 write_at(file, pixels, header.len() + top * width * 3)
             },
         )
@@ -871,7 +871,7 @@ fn render_rows<S: Scalar>(
                 options.aa,
                 progress,
                 |top, pixels: &mut [u8]| {
-                    to_depth(pixels, width, top, depth);
+                    to_depth(pixels, width, (0, top), depth);
                     encoder.rows(pixels)
                 },
             )

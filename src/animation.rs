@@ -261,7 +261,7 @@ impl<'a, const MOTIONS: usize> Animation<'a, MOTIONS> {
                     // pixel on one that moves too is in that one's own region (no copy of
                     // the old object kept: stack on a Cortex-M0).
                     if let Some(old) = scene.objects().get(index) {
-                        region.add_object_state(&(&*scene).into(), old);
+                        region.add_object_state(&(&*scene).into(), old, index);
                     }
                     moved_objects = true;
                     scene
@@ -287,13 +287,18 @@ impl<'a, const MOTIONS: usize> Animation<'a, MOTIONS> {
         for target in self.targets() {
             if let Target::Object { index, .. } = *target {
                 match scene.objects().get(usize::from(index)) {
-                    Some(new) => region.add_object_state(&parts, new),
+                    Some(new) => region.add_object_state(&parts, new, usize::from(index)),
                     None => region.add_whole(),
                 }
             }
         }
         if moved_objects {
-            region.add_seen_beyond(&parts);
+            let moved = |slot: usize| {
+                self.targets().any(
+                    |t| matches!(*t, Target::Object { index, .. } if usize::from(index) == slot),
+                )
+            };
+            region.add_seen_beyond(&parts, moved);
         }
         result
     }

@@ -48,8 +48,7 @@ use crate::bvh::bounds;
 use crate::camera::Camera;
 use crate::light::Light;
 use crate::material::Material;
-use crate::object::Object;
-use crate::object::Plane;
+use crate::object::{Object, Plane, Shape};
 use crate::plan::{self, OnPlane, ScreenBox};
 use crate::scalar::Scalar;
 use crate::scene::Scene;
@@ -330,9 +329,9 @@ impl<const N: usize> Region<N> {
         let Some(new) = scene.objects.get(index) else {
             return self.add_whole();
         };
-        self.add_object_state(&scene, old);
-        self.add_object_state(&scene, new);
-        self.add_seen_beyond(&scene);
+        self.add_object_state(&scene, old, index);
+        self.add_object_state(&scene, new, index);
+        self.add_seen_beyond(&scene, |i| i == index);
     }
 
     /// Adds what a change of material `index` can touch: every object that shows it, as
@@ -350,10 +349,12 @@ impl<const N: usize> Region<N> {
                 .any(|m| usize::from(m) == index)
         };
         let scene = scene.into();
-        for object in scene.objects.iter().filter(shows) {
-            self.add_object_state(&scene, object);
+        for (slot, object) in scene.objects.iter().enumerate() {
+            if shows(&object) {
+                self.add_object_state(&scene, object, slot);
+            }
         }
-        self.add_seen_beyond(&scene);
+        self.add_seen_beyond(&scene, |i| scene.objects.get(i).is_some_and(|o| shows(&o)));
     }
 
     /// Adds what a change of a light can touch: everything it may light, which is taken as
@@ -367,9 +368,23 @@ impl<const N: usize> Region<N> {
         self.add_whole();
     }
 
-    /// `object`'s outline and where its shadows can fall, from every light.
-    pub(crate) fn add_object_state<S: Scalar>(&mut self, scene: &Parts<'_, S>, object: &Object<S>) {
+    /// `object` (in the scene's slot `slot`, or about to be)'s outline and where its
+    /// shadows can fall, from every light; with a lone flat mirror (see
+    /// [`add_seen_beyond`](Self::add_seen_beyond)), where it shows them.
+    pub(crate) fn add_object_state<S: Scalar>(
+        &mut self,
+        scene: &Parts<'_, S>,
+        object: &Object<S>,
+        slot: usize,
+    ) {
+        let mirror = lone_mirror(scene, slot);
         self.add_box(plan::footprint(scene.camera, object));
+        if let Some(mirror) = &mirror {
+            match bounds(object) {
+                Some(held) => self.add_reflected(scene, mirror, &box_corners(held)),
+                None => self.add_box(mirror.screen),
+            }
+        }
         let mut vertices = [Vec3::ZERO; 8];
         for light in scene.lights {
             if self.whole {
@@ -382,30 +397,37 @@ impl<const N: usize> Region<N> {
             }
             let cone = bounding_sphere(&vertices);
             for receiver in scene.objects {
-                self.add_shadow_on(scene, l, &vertices, cone, receiver);
+                self.add_shadow_on(scene, mirror.as_ref(), l, &vertices, cone, receiver);
             }
         }
     }
 
     /// Where the shadow of the polytope `vertices` from a light at `l` can fall on
-    /// `receiver`.
+    /// `receiver`, and where `mirror` shows that.
     fn add_shadow_on<S: Scalar>(
         &mut self,
         scene: &Parts<'_, S>,
+        mirror: Option<&Mirror>,
         l: Vec3<f64>,
         vertices: &[Vec3<f64>; 8],
         cone: (Vec3<f64>, f64),
         receiver: &Object<S>,
     ) {
         let camera = scene.camera;
-        if let Some(plane) = receiver.infinite_plane() {
+        if let Some((plane, bounded)) = flat(receiver) {
+            // A panel's shadow is its plane's, within the panel's outline.
+            let within = if bounded {
+                plan::footprint(camera, receiver)
+            } else {
+                ScreenBox::ALL
+            };
             let mut points = [Vec3::ZERO; 8];
-            let screen = match plan::shadow_on_plane(l, vertices, plane, &mut points) {
+            let everywhere = match plan::shadow_on_plane(l, vertices, plane, &mut points) {
                 OnPlane::Nowhere => return,
-                OnPlane::Anywhere => plan::plane_footprint(camera, plane),
+                OnPlane::Anywhere => true,
                 OnPlane::Within => {
                     let Some(polygon) = Polygon::in_plane(plane, &points) else {
-                        return self.add_box(plan::plane_footprint(camera, plane));
+                        return self.add_plane(scene, mirror, receiver, plane, bounded);
                     };
                     let polygon = polygon.in_light(scene, l, receiver);
                     if polygon.len == 0 {
@@ -413,10 +435,17 @@ impl<const N: usize> Region<N> {
                     }
                     let mut corners = [Vec3::ZERO; POLYGON];
                     let corners = polygon.corners(&mut corners);
-                    plan::outline(camera, corners)
+                    self.add_box(meet(plan::outline(camera, corners), within));
+                    if let Some(mirror) = mirror {
+                        self.add_reflected(scene, mirror, corners);
+                    }
+                    false
                 }
             };
-            return self.add_box(screen);
+            if everywhere {
+                self.add_plane(scene, mirror, receiver, plane, bounded);
+            }
+            return;
         }
         let reach = match bounds(receiver) {
             Some((low, high)) => {
@@ -429,23 +458,166 @@ impl<const N: usize> Region<N> {
         };
         if reach.is_none_or(|reach| may_meet(l, cone, reach)) {
             self.add_box(plan::footprint(camera, receiver));
+            if let Some(mirror) = mirror {
+                match bounds(receiver) {
+                    Some(held) => self.add_reflected(scene, mirror, &box_corners(held)),
+                    None => self.add_box(mirror.screen),
+                }
+            }
         }
     }
 
+    /// All of a flat receiver (an infinite plane's rows, a panel's outline), and all of
+    /// the mirror.
+    fn add_plane<S: Scalar>(
+        &mut self,
+        scene: &Parts<'_, S>,
+        mirror: Option<&Mirror>,
+        receiver: &Object<S>,
+        plane: &Plane<S>,
+        bounded: bool,
+    ) {
+        self.add_box(if bounded {
+            plan::footprint(scene.camera, receiver)
+        } else {
+            plan::plane_footprint(scene.camera, plane)
+        });
+        if let Some(mirror) = mirror {
+            self.add_box(mirror.screen);
+        }
+    }
+
+    /// Where `mirror` can show a point of the hull of `points`: the primary rays that meet
+    /// the mirror image of that hull, within the mirror's outline.
+    fn add_reflected<S: Scalar>(
+        &mut self,
+        scene: &Parts<'_, S>,
+        mirror: &Mirror,
+        points: &[Vec3<f64>],
+    ) {
+        let mut images = [Vec3::ZERO; POLYGON];
+        for (image, &p) in images.iter_mut().zip(points) {
+            *image = p - mirror.normal * (2.0 * (mirror.normal.dot(p) - mirror.offset));
+        }
+        let images = images.get(..points.len()).unwrap_or(&[]);
+        self.add_box(meet(plan::outline(scene.camera, images), mirror.screen));
+    }
+
     /// The outlines of every mirror and transparent object: what their pixels show comes
-    /// from rays that may meet anything.
-    pub(crate) fn add_seen_beyond<S: Scalar>(&mut self, scene: &Parts<'_, S>) {
-        let onward = |m: u16| {
-            scene.materials.get(usize::from(m)).is_some_and(|m| {
-                (cfg!(feature = "reflection") && m.reflects())
-                    || (cfg!(feature = "transparency") && m.transparency != S::ZERO)
-            })
-        };
+    /// from rays that may meet anything. The exception is a lone flat mirror: the only
+    /// object whose rays go on besides the changed one, flat, its materials opaque, the
+    /// same for every changed object (`changed` says which slots changed). The rays it
+    /// reflects meet no mirror or glass but the changed object, so only where it shows the
+    /// change can change, which [`add_object_state`](Self::add_object_state) adds for each
+    /// state.
+    pub(crate) fn add_seen_beyond<S: Scalar>(
+        &mut self,
+        scene: &Parts<'_, S>,
+        changed: impl Fn(usize) -> bool,
+    ) {
+        let slots = 0..scene.objects.len();
+        if slots
+            .filter(|&i| changed(i))
+            .all(|i| lone_mirror(scene, i).is_some())
+        {
+            return;
+        }
         for object in scene.objects {
-            if plan::materials_of(object).into_iter().flatten().any(onward) {
+            if plan::materials_of(object)
+                .into_iter()
+                .flatten()
+                .any(|m| onward(scene, m))
+            {
                 self.add_box(plan::footprint(scene.camera, object));
             }
         }
+    }
+}
+
+/// Whether rays that meet material `m` go on (a mirror, a transparent material).
+fn onward<S: Scalar>(scene: &Parts<'_, S>, m: u16) -> bool {
+    scene.materials.get(usize::from(m)).is_some_and(|m| {
+        (cfg!(feature = "reflection") && m.reflects())
+            || (cfg!(feature = "transparency") && m.transparency != S::ZERO)
+    })
+}
+
+/// A flat mirror whose reflections a region follows: its plane (`normal . P = offset`,
+/// the normal a unit in `f64`) and its outline.
+struct Mirror {
+    normal: Vec3<f64>,
+    offset: f64,
+    screen: ScreenBox,
+}
+
+/// The scene's lone flat mirror for a change of the object in slot `changed`: the only
+/// object but that one whose rays go on, flat, its materials opaque (a ray it reflects
+/// meets no mirror and no glass but the changed object, so it shows each other point of
+/// the scene along one path).
+fn lone_mirror<S: Scalar>(scene: &Parts<'_, S>, changed: usize) -> Option<Mirror> {
+    let mut onward_objects = scene.objects.iter().enumerate().filter(|&(i, object)| {
+        i != changed
+            && plan::materials_of(object)
+                .into_iter()
+                .flatten()
+                .any(|m| onward(scene, m))
+    });
+    let (_, object) = onward_objects.next()?;
+    if onward_objects.next().is_some() {
+        return None;
+    }
+    let opaque = plan::materials_of(object).into_iter().flatten().all(|m| {
+        scene
+            .materials
+            .get(usize::from(m))
+            .is_some_and(|m| m.transparency == S::ZERO)
+    });
+    let (plane, _) = flat(object)?;
+    let n = plane.unit_normal.to_f64();
+    let length = n.length();
+    if !(opaque && length > 0.5 && length.is_finite()) {
+        return None;
+    }
+    let normal = n * (1.0 / length);
+    Some(Mirror {
+        normal,
+        offset: normal.dot(plane.point.to_f64()),
+        screen: plan::footprint(scene.camera, object),
+    })
+}
+
+/// The plane of a flat object, and whether the object is bounded (a panel).
+fn flat<S: Scalar>(object: &Object<S>) -> Option<(&Plane<S>, bool)> {
+    match object.shape() {
+        Shape::Plane(plane) => Some((plane, false)),
+        Shape::TiledPlane(tiles) => Some((&tiles.rect.plane, false)),
+        Shape::FPlane(rect) => Some((&rect.plane, true)),
+        Shape::TexPlane(textured) => Some((&textured.rect.plane, true)),
+        Shape::Sphere(_) | Shape::RevSurf(_) => None,
+    }
+}
+
+/// The corners of the box from `low` to `high`.
+fn box_corners((low, high): (Vec3<f64>, Vec3<f64>)) -> [Vec3<f64>; 8] {
+    core::array::from_fn(|i| {
+        let pick = |bit: usize, a: f64, b: f64| if i & bit == 0 { a } else { b };
+        Vec3::new(
+            pick(1, low.x, high.x),
+            pick(2, low.y, high.y),
+            pick(4, low.z, high.z),
+        )
+    })
+}
+
+/// The screen box both hold.
+fn meet(a: ScreenBox, b: ScreenBox) -> ScreenBox {
+    let both = |a: plan::RowSpan, b: plan::RowSpan| plan::RowSpan {
+        first: a.first.max(b.first),
+        last: a.last.min(b.last),
+    };
+    ScreenBox {
+        rows: both(a.rows, b.rows),
+        columns: both(a.columns, b.columns),
     }
 }
 

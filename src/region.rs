@@ -391,29 +391,49 @@ impl<const N: usize> Region<N> {
                 return;
             }
             let l = light.location.to_f64();
-            if plan::widened_vertices(object, l, S::MIN_NORMAL, true, &mut vertices).is_none() {
+            let Some(octagon) =
+                plan::widened_vertices(object, l, S::MIN_NORMAL, true, &mut vertices)
+            else {
                 // Not bounded (an infinite plane), or a panel in line with the light.
                 return self.add_whole();
-            }
-            let cone = bounding_sphere(&vertices);
+            };
+            let cone = Cone {
+                vertices: &vertices,
+                octagon,
+                ball: bounding_sphere(&vertices),
+            };
             for receiver in scene.objects {
-                self.add_shadow_on(scene, mirror.as_ref(), l, &vertices, cone, receiver);
+                self.add_shadow_on(scene, mirror.as_ref(), l, &cone, receiver);
             }
         }
     }
 
-    /// Where the shadow of the polytope `vertices` from a light at `l` can fall on
+    /// Where the shadow of the polytope `cone.vertices` from a light at `l` can fall on
     /// `receiver`, and where `mirror` shows that.
     fn add_shadow_on<S: Scalar>(
         &mut self,
         scene: &Parts<'_, S>,
         mirror: Option<&Mirror>,
         l: Vec3<f64>,
-        vertices: &[Vec3<f64>; 8],
-        cone: (Vec3<f64>, f64),
+        cone: &Cone<'_>,
         receiver: &Object<S>,
     ) {
         let camera = scene.camera;
+        let vertices = cone.vertices;
+        if let (Some(panel), true) = (panel_polygon(receiver), cone.octagon) {
+            // A panel in the shadow of a ball: the panel less what lies outside the
+            // pyramid of the ball's octagon (bounded where the cone runs along the panel).
+            let polygon = panel.in_pyramid(l, vertices).in_light(scene, l, receiver);
+            if polygon.len > 0 {
+                let mut corners = [Vec3::ZERO; POLYGON];
+                let corners = polygon.corners(&mut corners);
+                self.add_box(plan::outline(camera, corners));
+                if let Some(mirror) = mirror {
+                    self.add_reflected(scene, mirror, corners);
+                }
+            }
+            return;
+        }
         if let Some((plane, bounded)) = flat(receiver) {
             // A panel's shadow is its plane's, within the panel's outline.
             let within = if bounded {
@@ -456,7 +476,7 @@ impl<const N: usize> Region<N> {
             }
             None => None,
         };
-        if reach.is_none_or(|reach| may_meet(l, cone, reach)) {
+        if reach.is_none_or(|reach| may_meet(l, cone.ball, reach)) {
             self.add_box(plan::footprint(camera, receiver));
             if let Some(mirror) = mirror {
                 match bounds(receiver) {
@@ -584,6 +604,43 @@ fn lone_mirror<S: Scalar>(scene: &Parts<'_, S>, changed: usize) -> Option<Mirror
         offset: normal.dot(plane.point.to_f64()),
         screen: plan::footprint(scene.camera, object),
     })
+}
+
+/// The polytope of a shadow: its vertices, whether they are a ball's octagon (a flat
+/// polygon whose pyramid from the light holds the shadow), and a ball holding them.
+struct Cone<'v> {
+    vertices: &'v [Vec3<f64>; 8],
+    octagon: bool,
+    ball: (Vec3<f64>, f64),
+}
+
+/// A panel's rectangle as a polygon in its plane, widened by 2e-3 of its reach and 256
+/// steps of the type's resolution along its sides (as the plan widens objects).
+fn panel_polygon<S: Scalar>(object: &Object<S>) -> Option<Polygon> {
+    let rect = match object.shape() {
+        Shape::FPlane(rect) => rect,
+        Shape::TexPlane(textured) => &textured.rect,
+        _ => return None,
+    };
+    let [p, across, up] = rect.corner_and_sides();
+    let reach = norm_1(p) + norm_1(across) + norm_1(up);
+    let margin = 2e-3 * reach + 256.0 * S::MIN_NORMAL;
+    let out = |v: Vec3<f64>| {
+        let length = v.length();
+        if length > 0.0 && length.is_finite() {
+            v * (margin / length)
+        } else {
+            Vec3::ZERO
+        }
+    };
+    let (a, b) = (out(across), out(up));
+    let (low, high) = (p - a - b, p + across + up + a + b);
+    let corners = [low, p + across + a - b, high, p + up + b - a];
+    let mut points = [low; 8];
+    for (point, corner) in points.iter_mut().zip(corners) {
+        *point = corner;
+    }
+    Polygon::in_plane(&rect.plane, &points)
 }
 
 /// The plane of a flat object, and whether the object is bounded (a panel).
@@ -755,6 +812,25 @@ impl Polygon {
             if let Some(kept) = lit.union(&near) {
                 polygon = kept;
             }
+        }
+        polygon
+    }
+
+    /// The part in the pyramid of the points `l + s (V - l)`, `s >= 1`, `V` in the convex
+    /// octagon `octagon` (its corners in order round it).
+    fn in_pyramid(self, l: Vec3<f64>, octagon: &[Vec3<f64>; 8]) -> Self {
+        let middle = octagon.iter().fold(Vec3::ZERO, |s, &v| s + v) * 0.125;
+        let axis = middle - l;
+        // Beyond the octagon's plane: `axis . (P - l) >= |axis|^2`.
+        let mut polygon = self.clipped(axis, -axis.dot(l) - axis.dot(axis));
+        for (i, &v) in octagon.iter().enumerate() {
+            let next = octagon.get((i + 1) % 8).copied().unwrap_or(v);
+            // The side through `l`, `v` and `next`, facing the middle.
+            let mut side = (v - l).cross(next - l);
+            if side.dot(axis) < 0.0 {
+                side = -side;
+            }
+            polygon = polygon.clipped(side, -side.dot(l));
         }
         polygon
     }
@@ -962,6 +1038,62 @@ mod tests {
             check::<1>(&added, border)?;
             check::<3>(&added, border)?;
             check::<16>(&added, border)?;
+        }
+    }
+
+    fn point() -> impl Strategy<Value = Vec3<f64>> {
+        (-50.0..50.0f64, -50.0..50.0f64, -50.0..50.0f64).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+    }
+
+    proptest! {
+        /// A square about a point in a ball's shadow, clipped to the pyramid of the ball's
+        /// octagon, still holds the point (on the shadow's edge too).
+        #[test]
+        fn a_panel_in_a_pyramid_keeps_the_shadow(
+            l in point(),
+            center in point(),
+            r in 0.01..10.0f64,
+            around in 0.0..1.0f64,
+            s in prop_oneof![Just(1.0f64), 1.0..20.0f64],
+            normal in point(),
+            (half, x, y) in (0.01..20.0f64, -1.0..1.0f64, -1.0..1.0f64),
+        ) {
+            let mut octagon = [Vec3::ZERO; 8];
+            prop_assume!(plan::cone_octagon(center, r, l, &mut octagon));
+            prop_assume!(normal.length() > 1e-3);
+            // A point on the circle where the cone touches the ball, seen beyond.
+            let to = center - l;
+            let d = to.length();
+            let a = to * (1.0 / d);
+            let u = a.cross(if libm::fabs(a.x) < 0.5 { Vec3::new(1.0, 0.0, 0.0) } else { Vec3::new(0.0, 1.0, 0.0) });
+            let u = u * (1.0 / u.length());
+            let w = a.cross(u);
+            let phi = around * core::f64::consts::TAU;
+            let touch = l + a * (d - r * r / d)
+                + (u * libm::cos(phi) + w * libm::sin(phi)) * (r * libm::sqrt(d * d - r * r) / d);
+            // Or, a tenth of the time, the ball's nearest point (where the pyramid begins).
+            let q = if around < 0.1 { center - a * r } else { touch };
+            let p = l + (q - l) * s;
+            // A square in a random plane through it, the point anywhere in it.
+            let n = normal * (1.0 / normal.length());
+            let e1 = n.cross(if libm::fabs(n.x) < 0.5 { Vec3::new(1.0, 0.0, 0.0) } else { Vec3::new(0.0, 1.0, 0.0) });
+            let e1 = e1 * (1.0 / e1.length());
+            let e2 = n.cross(e1);
+            let mut square = Polygon { origin: p, u: e1, v: e2, points: [[0.0; 2]; POLYGON], len: 0 };
+            for corner in [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]] {
+                square.push([half * (corner[0] - x), half * (corner[1] - y)]);
+            }
+            let clipped = square.in_pyramid(l, &octagon);
+            // The point (the plane's origin) inside every edge of what is left.
+            let corners = &clipped.points[..clipped.len];
+            prop_assert!(clipped.len >= 3, "{} corners left", clipped.len);
+            for (i, &c) in corners.iter().enumerate() {
+                let next = corners[(i + 1) % corners.len()];
+                let edge = [next[0] - c[0], next[1] - c[1]];
+                let cross = edge[0] * (0.0 - c[1]) - edge[1] * (0.0 - c[0]);
+                let scale = (edge[0].abs() + edge[1].abs()) * (c[0].abs() + c[1].abs() + 1.0);
+                prop_assert!(cross >= -1e-9 * scale, "outside edge {i}: {cross}");
+            }
         }
     }
 

@@ -231,6 +231,73 @@ fn stage() -> impl Strategy<Value = Film> {
         })
 }
 
+/// A gallery: a large panel (a mirror a quarter of the time) behind balls that move in
+/// front of it, over a floor, and lights in front: balls' shadows on a panel, and a lone
+/// flat mirror showing them.
+fn gallery() -> impl Strategy<Value = Film> {
+    let floor = (-2.5..0.0f64).prop_map(|y| Thing {
+        kind: 0,
+        normal: [0.0, 1.0, 0.0],
+        point: [0.0, y, 0.0],
+        size: 1.0,
+        material: 0,
+    });
+    let panel = (
+        prop_oneof![
+            Just([0.0, 0.0, 1.0]),
+            Just([1.0, 0.0, 1.0]),
+            Just([0.0, 1.0, 2.0]),
+            Just([1.0, 0.5, 0.25]),
+        ],
+        [-2.0..2.0f64, -1.0..1.0f64, -9.0..-6.0f64],
+        2.5..4.0f64,
+        1..4usize,
+    )
+        .prop_map(|(normal, point, size, material)| Thing {
+            kind: 2,
+            normal,
+            point,
+            size,
+            material,
+        });
+    let ball = (
+        [-1.0..6.0f64, 0.0..3.0f64, -5.0..-2.0f64],
+        0.4..1.2f64,
+        0..4usize,
+    )
+        .prop_map(|(point, size, material)| Thing {
+            kind: 3,
+            normal: [0.0, 1.0, 0.0],
+            point,
+            size,
+            material,
+        });
+    let moves = (2..5usize, [-1.5..1.5f64, -1.0..1.0f64, -1.0..1.0f64])
+        .prop_map(|(i, d)| Change::Move(i, d));
+    (
+        floor,
+        panel,
+        prop::collection::vec(ball, 1..4),
+        prop::collection::vec(stuff(), 4),
+        prop::collection::vec(lamp(), 1..4),
+        [1.0..7.0f64, 1.0..5.0f64, 2.0..8.0f64],
+        prop::collection::vec(prop::collection::vec(moves, 1..3), 1..4),
+    )
+        .prop_map(|(floor, panel, balls, mut stuffs, lamps, eye, frames)| {
+            // The floor opaque: a plane that can hide shadows.
+            stuffs[0].3 = 0.0;
+            let mut things = vec![floor, panel];
+            things.extend(balls);
+            Film {
+                things,
+                stuffs,
+                lamps,
+                eye,
+                frames,
+            }
+        })
+}
+
 /// What the region left out, over a run: pixels not re-traced, and pixels in all.
 #[derive(Default, Debug, Clone, Copy)]
 struct Saved {
@@ -378,6 +445,13 @@ proptest! {
 
     #[test]
     fn incremental_frames_on_a_stage_are_full_frames(film in stage()) {
+        play::<f64>(&film)?;
+        play::<f32>(&film)?;
+        play::<I16F16>(&film)?;
+    }
+
+    #[test]
+    fn incremental_frames_in_a_gallery_are_full_frames(film in gallery()) {
         play::<f64>(&film)?;
         play::<f32>(&film)?;
         play::<I16F16>(&film)?;

@@ -28,6 +28,8 @@ use crate::vec3::Vec3;
 use heapless::Vec;
 
 mod shadows;
+#[cfg(all(test, feature = "animate"))]
+pub(crate) use shadows::cone_octagon;
 pub use shadows::{BOXES, OCCLUDERS, ScreenBox, ShadowBoxes};
 #[cfg(feature = "animate")]
 pub(crate) use shadows::{OnPlane, shadow_on_plane, widened_vertices};

@@ -313,13 +313,15 @@ fn bounded<S: Scalar>(object: &Object<S>) -> bool {
 /// margins (seen from a light at `l`): a cube about a ball along the axes (or, with
 /// `facing_the_light`, an octagon about the cone of its shadow: [`cone_octagon`]), a slab
 /// about a panel; `None` for other kinds and for a panel nearly in line with the light.
+///
+/// `Some(true)` for the octagon (a flat polygon: the shadow is the pyramid beyond it).
 pub(crate) fn widened_vertices<S: Scalar>(
     object: &Object<S>,
     l: Vec3<f64>,
     resolution: f64,
     facing_the_light: bool,
     vertices: &mut [Vec3<f64>; 8],
-) -> Option<()> {
+) -> Option<bool> {
     let margin = |points: &[Vec3<f64>]| {
         let reach = points
             .iter()
@@ -330,8 +332,10 @@ pub(crate) fn widened_vertices<S: Scalar>(
     let (center, radius) = match object.shape() {
         Shape::Sphere(s) => (s.center.to_f64(), s.radius.to_f64()),
         Shape::RevSurf(s) if cfg!(feature = "revsurf") => (s.center.to_f64(), s.bound.to_f64()),
-        Shape::FPlane(rect) => return slab(rect, l, &margin, vertices),
-        Shape::TexPlane(textured) => return slab(&textured.rect, l, &margin, vertices),
+        Shape::FPlane(rect) => return slab(rect, l, &margin, vertices).map(|()| false),
+        Shape::TexPlane(textured) => {
+            return slab(&textured.rect, l, &margin, vertices).map(|()| false);
+        }
         _ => return None,
     };
     let reach = Vec3::new(radius, radius, radius);
@@ -342,13 +346,13 @@ pub(crate) fn widened_vertices<S: Scalar>(
     // of its area, where a cube's is up to 1.6 times it (the plan's boxes keep the axis
     // cube: no square roots in soft float's `f64` on every render).
     if cfg!(feature = "animate") && facing_the_light && cone_octagon(center, r, l, vertices) {
-        return Some(());
+        return Some(true);
     }
     for (i, v) in vertices.iter_mut().enumerate() {
         let sign = |bit: usize| if i & bit == 0 { -r } else { r };
         *v = center + Vec3::new(sign(4), sign(2), sign(1));
     }
-    Some(())
+    Some(false)
 }
 
 /// Into `vertices`, a regular octagon about the cross-section of the cone from `l` tangent
@@ -358,7 +362,12 @@ pub(crate) fn widened_vertices<S: Scalar>(
 /// `(D - r) tan a` (`sin a = r / D`). Every such `P` is `l + s (V - l)`, `s >= 1`, for a
 /// `V` in the octagon (set a millionth nearer and wider than the rounded values). `false`
 /// (nothing written) where `l` is within a thousandth of the ball's radius of it.
-fn cone_octagon(center: Vec3<f64>, r: f64, l: Vec3<f64>, vertices: &mut [Vec3<f64>; 8]) -> bool {
+pub(crate) fn cone_octagon(
+    center: Vec3<f64>,
+    r: f64,
+    l: Vec3<f64>,
+    vertices: &mut [Vec3<f64>; 8],
+) -> bool {
     /// `cos 22.5°` and `sin 22.5°`.
     const C: f64 = 0.923_879_532_511_286_7;
     const S: f64 = 0.382_683_432_365_089_8;

@@ -206,21 +206,32 @@ fn stage() -> impl Strategy<Value = Film> {
         });
     let moves = (2..5usize, [-1.5..1.5f64, -1.5..1.5f64, -1.5..1.5f64])
         .prop_map(|(i, d)| Change::Move(i, d));
+    // The floor and the wall opaque: planes that can hide shadows.
+    set((floor, wall), prop, moves, 2)
+}
+
+/// Films of two things that stay (the first `opaque` materials made opaque) and one to
+/// three that move.
+fn set(
+    staying: (impl Strategy<Value = Thing>, impl Strategy<Value = Thing>),
+    moving: impl Strategy<Value = Thing>,
+    moves: impl Strategy<Value = Change>,
+    opaque: usize,
+) -> impl Strategy<Value = Film> {
     (
-        floor,
-        wall,
-        prop::collection::vec(prop, 1..4),
+        staying,
+        prop::collection::vec(moving, 1..4),
         prop::collection::vec(stuff(), 4),
         prop::collection::vec(lamp(), 1..4),
         [1.0..7.0f64, 1.0..5.0f64, 2.0..8.0f64],
         prop::collection::vec(prop::collection::vec(moves, 1..3), 1..4),
     )
-        .prop_map(|(floor, wall, props, mut stuffs, lamps, eye, frames)| {
-            // The floor and the wall opaque: planes that can hide shadows.
-            stuffs[0].3 = 0.0;
-            stuffs[1].3 = 0.0;
-            let mut things = vec![floor, wall];
-            things.extend(props);
+        .prop_map(move |((a, b), more, mut stuffs, lamps, eye, frames)| {
+            for stuff in stuffs.iter_mut().take(opaque) {
+                stuff.3 = 0.0;
+            }
+            let mut things = vec![a, b];
+            things.extend(more);
             Film {
                 things,
                 stuffs,
@@ -274,28 +285,8 @@ fn gallery() -> impl Strategy<Value = Film> {
         });
     let moves = (2..5usize, [-1.5..1.5f64, -1.0..1.0f64, -1.0..1.0f64])
         .prop_map(|(i, d)| Change::Move(i, d));
-    (
-        floor,
-        panel,
-        prop::collection::vec(ball, 1..4),
-        prop::collection::vec(stuff(), 4),
-        prop::collection::vec(lamp(), 1..4),
-        [1.0..7.0f64, 1.0..5.0f64, 2.0..8.0f64],
-        prop::collection::vec(prop::collection::vec(moves, 1..3), 1..4),
-    )
-        .prop_map(|(floor, panel, balls, mut stuffs, lamps, eye, frames)| {
-            // The floor opaque: a plane that can hide shadows.
-            stuffs[0].3 = 0.0;
-            let mut things = vec![floor, panel];
-            things.extend(balls);
-            Film {
-                things,
-                stuffs,
-                lamps,
-                eye,
-                frames,
-            }
-        })
+    // The floor opaque: a plane that can hide shadows.
+    set((floor, panel), ball, moves, 1)
 }
 
 /// What the region left out, over a run: pixels not re-traced, and pixels in all.

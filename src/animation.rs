@@ -302,6 +302,85 @@ impl<'a, const MOTIONS: usize> Animation<'a, MOTIONS> {
         }
         result
     }
+
+    /// [`show_frame`](Self::show_frame) for a film played frame after frame: `last` keeps
+    /// the region of the state the last frame showed, so that where one object moves (and
+    /// no light), its old state's region is the last frame's new one rather than worked out
+    /// again (half the region's work). Frames may come in any order, but `last` must have
+    /// seen every change of the scene since its last frame: change the scene only through
+    /// this method, or call [`forget`](LastFrame::forget) after other changes. Films that
+    /// move more than one object, or a light, work their regions out whole.
+    pub fn show_next_frame<
+        S: Scalar,
+        const OBJECTS: usize,
+        const MATERIALS: usize,
+        const LIGHTS: usize,
+        const TEXTURES: usize,
+        const MAX_WIDTH: usize,
+        const N: usize,
+    >(
+        &self,
+        frame: u16,
+        scene: &mut Scene<'_, S, OBJECTS, MATERIALS, LIGHTS, TEXTURES, MAX_WIDTH>,
+        region: &mut Region<N>,
+        last: &mut LastFrame<N>,
+    ) -> Result<(), ErrorKind> {
+        let seen = last.slot.take();
+        let mut targets = self.targets();
+        let (Some(&Target::Object { index, def }), None) = (targets.next(), targets.next()) else {
+            return self.show_frame(frame, scene, region);
+        };
+        let slot = usize::from(index);
+        let next = region.like();
+        let old = core::mem::replace(&mut last.region, next);
+        if seen == Some(slot) && old.fits(region) {
+            region.add_region(&old);
+        } else if let Some(object) = scene.objects().get(slot) {
+            region.add_object_state(&(&*scene).into(), object, slot);
+        }
+        let target = Target::Object { index, def };
+        let to = add(target.point(), self.offset(frame, &target));
+        scene.replace_object(slot, &moved_object(def, to))?;
+        let parts = (&*scene).into();
+        match scene.objects().get(slot) {
+            Some(new) => last.region.add_object_state(&parts, new, slot),
+            None => last.region.add_whole(),
+        }
+        region.add_region(&last.region);
+        region.add_seen_beyond(&parts, |i| i == slot);
+        last.slot = Some(slot);
+        Ok(())
+    }
+}
+
+/// What playing a film keeps from one frame to the next (see
+/// [`Animation::show_next_frame`]): the region of the moving object's state as the last
+/// frame showed it, and the object's slot.
+#[derive(Clone, Debug)]
+pub struct LastFrame<const N: usize> {
+    slot: Option<usize>,
+    region: Region<N>,
+}
+
+impl<const N: usize> LastFrame<N> {
+    /// Nothing seen yet (the first frame shown works its region out whole).
+    pub fn new() -> Self {
+        Self {
+            slot: None,
+            region: Region::new(embedded_graphics::prelude::Size::zero()),
+        }
+    }
+
+    /// Forgets the last frame: the scene was changed by other means.
+    pub fn forget(&mut self) {
+        self.slot = None;
+    }
+}
+
+impl<const N: usize> Default for LastFrame<N> {
+    fn default() -> Self {
+        Self::new()
+    }
 }
 
 /// `a + b`, keeping `a`'s values where `b` is zero (its `-0` stays: frame 0 is the scene

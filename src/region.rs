@@ -176,6 +176,31 @@ impl<const N: usize> Region<N> {
         }
     }
 
+    /// An empty region of the same screen and border.
+    pub(crate) fn like(&self) -> Self {
+        Self {
+            whole: false,
+            areas: Vec::new(),
+            ..*self
+        }
+    }
+
+    /// Whether `self` is of the same screen and border as `other` (its rectangles can be
+    /// added to it as they are).
+    pub(crate) fn fits<const M: usize>(&self, other: &Region<M>) -> bool {
+        (self.width, self.height, self.border) == (other.width, other.height, other.border)
+    }
+
+    /// Adds every pixel of `other`, a region of the same screen and border.
+    pub(crate) fn add_region<const M: usize>(&mut self, other: &Region<M>) {
+        if other.whole {
+            return self.add_whole();
+        }
+        for &area in &other.areas {
+            self.push(area);
+        }
+    }
+
     /// Nothing again (the next frame's region).
     pub fn clear(&mut self) {
         self.whole = false;

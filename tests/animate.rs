@@ -602,11 +602,22 @@ bounce hop {{ target ball height 2.5 bounces 3 }}"
 /// the full frame, in every number type (at 96x72: the films' own sizes take longer).
 mod films {
     use super::*;
+    use microray::animation::LastFrame;
     use microray::host::{HostRenderer, HostScene, texture_files};
     use microray::parse::{parse_animation, parse_scene_into};
     use std::path::Path;
 
-    fn play<S: Scalar>(path: &Path) -> (u64, u64) {
+    /// How a film is played: each frame by itself, or through a [`LastFrame`], in order,
+    /// or jumping about with a frame now and then shown by itself (and the [`LastFrame`]
+    /// told to forget).
+    #[derive(Clone, Copy, PartialEq)]
+    enum Play {
+        Alone,
+        InOrder,
+        Jumping,
+    }
+
+    fn play<S: Scalar>(path: &Path, how: Play) -> (u64, u64) {
         let text = std::fs::read(path).unwrap();
         let mut scene: Box<HostScene<'static, S>> = Box::new(HostScene::empty());
         parse_scene_into(&text, texture_files(path.parent().unwrap()), &mut scene).unwrap();
@@ -615,13 +626,26 @@ mod films {
         let size = Size::new(96, 72);
         let mut shown = Framebuffer::new(size);
         let mut traced = 0u64;
-        for frame in 0..animation.frames() {
+        let mut last = LastFrame::<16>::new();
+        let count = animation.frames();
+        // Jumping: on by one, back by two now and then, and once past the end and back.
+        let order = (0..count).map(|k| match how {
+            Play::Jumping if k % 5 == 4 => k - 2,
+            Play::Jumping if k == count / 2 => count - 1,
+            _ => k,
+        });
+        for (i, frame) in order.enumerate() {
             let mut region = Region::<16>::new(size);
-            if frame == 0 {
+            if i == 0 {
                 region.add_whole();
-            } else {
+            } else if how == Play::Alone || (how == Play::Jumping && i % 7 == 3) {
                 animation
                     .show_frame(frame, &mut scene, &mut region)
+                    .unwrap();
+                last.forget();
+            } else {
+                animation
+                    .show_next_frame(frame, &mut scene, &mut region, &mut last)
                     .unwrap();
             }
             let renderer: HostRenderer<'_, S> = Renderer::new(&*scene);
@@ -662,9 +686,12 @@ mod films {
                 continue;
             }
             films += 1;
-            play::<f64>(&path);
-            play::<f32>(&path);
-            let (traced, all) = play::<I16F16>(&path);
+            play::<f64>(&path, Play::Alone);
+            play::<f32>(&path, Play::Alone);
+            play::<I16F16>(&path, Play::Alone);
+            play::<f64>(&path, Play::InOrder);
+            play::<f32>(&path, Play::Jumping);
+            let (traced, all) = play::<I16F16>(&path, Play::InOrder);
             eprintln!(
                 "{}: {:.1} % traced",
                 path.display(),

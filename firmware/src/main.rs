@@ -300,7 +300,7 @@ mod antialiasing {
 #[cfg(feature = "animate")]
 mod animating {
     use super::*;
-    use microray::animation::Animation;
+    use microray::animation::{Animation, LastFrame};
     use microray::parse::parse_animation;
     use microray::region::Region;
 
@@ -325,7 +325,11 @@ mod animating {
                 "animation",
                 core::mem::size_of::<Animation<'static, MOTIONS>>(),
             ),
-            ("region", core::mem::size_of::<Region<AREAS>>()),
+            // A frame's region, and the last frame's the film keeps.
+            (
+                "region",
+                core::mem::size_of::<Region<AREAS>>() + core::mem::size_of::<LastFrame<AREAS>>(),
+            ),
         ] {
             console::line(&[T("microray size "), T(what), T(" "), N(bytes)]);
         }
@@ -338,9 +342,11 @@ mod animating {
             0 => animation.frames(),
             n => n.min(animation.frames()),
         };
+        // The moving object's last region, so each frame works out only its new one.
+        let mut last = LastFrame::<AREAS>::new();
         for k in 1..frames {
             stack::paint();
-            let pixels = incremental(file.name, k, &animation, scene)?;
+            let pixels = incremental(file.name, k, &animation, scene, &mut last)?;
             let name = suffix(b'i', k);
             report_frame(file.name, core::str::from_utf8(&name).unwrap_or(""), Ok(()));
             console::line(&[
@@ -387,6 +393,7 @@ mod animating {
         k: u16,
         animation: &Animation<'static, MOTIONS>,
         scene: &mut FirmwareScene,
+        last: &mut LastFrame<AREAS>,
     ) -> Result<u32, &'static str> {
         let suffix = suffix(b'i', k);
         let out = RowFile::create(name, core::str::from_utf8(&suffix).unwrap_or("+i"))?;
@@ -395,7 +402,7 @@ mod animating {
         RENDER_BASE.store(stack::depth(), Ordering::Relaxed);
         microray_count_start();
         let mut region = Region::<AREAS>::new(Size::new(u32::from(WIDTH), u32::from(HEIGHT)));
-        let moved = animation.show_frame(k, scene, &mut region);
+        let moved = animation.show_next_frame(k, scene, &mut region, last);
         let renderer = Renderer::new(&*scene);
         let mut result = moved.map_err(|_| "a frame does not load");
         for area in region.rectangles() {

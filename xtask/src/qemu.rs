@@ -380,7 +380,10 @@ fn ram_by_part(root: &Path, all: &[Row]) -> Result<String, String> {
             "film",
             "playing a film (`animate`, docs/animation.md): the film (`Animation<4>`)",
         ),
-        ("region", "- a frame's region (`Region<8>`)"),
+        (
+            "region",
+            "- the regions (a frame's `Region<8>`, the last frame's `LastFrame<8>`)",
+        ),
     ];
     let mut out = String::from(
         "\n## RAM by part: spec0 at 320x240\n\n\

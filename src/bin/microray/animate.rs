@@ -91,6 +91,8 @@ pub(crate) fn animate<S: Scalar>(
     // Adaptive anti-aliasing supersamples a pixel by what its neighbours show.
     let border = u16::from(matches!(options.aa, Some(Antialias::Adaptive { .. })));
     let mut region = Region::<AREAS>::new(size).with_border(border);
+    // The moving object's last region, so each frame works out only its new one.
+    let mut last = microray::animation::LastFrame::<AREAS>::new();
     let mut image = Framebuffer::new(size);
     let mut traced = 0u64;
     // A row, and anti-aliasing's rows, for every rectangle of every frame.
@@ -114,7 +116,7 @@ pub(crate) fn animate<S: Scalar>(
             region.clear();
             if frame > 0 {
                 animation
-                    .show_frame(frame, &mut scene, &mut region)
+                    .show_next_frame(frame, &mut scene, &mut region, &mut last)
                     .map_err(|e| format!("{name}: error: frame {frame}: {e}"))?;
             }
             if frame == 0 || film.full {

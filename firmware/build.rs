@@ -142,16 +142,28 @@ fn main() {
             writeln!(skipped, "    ({name:?}, {why:?}),").unwrap();
             continue;
         }
-        // A film needs the `animate` feature to load (its motion blocks); the other builds
-        // leave it out, as a build leaves out a scene whose kinds it lacks.
+        // A film's motion blocks need the `animate` feature to load: the other builds
+        // leave a film out, as a build leaves out a scene whose kinds it lacks, or, when
+        // `MICRORAY_FW_ONLY` names it (the flash of `cargo xtask qemu --animations`, without
+        // the feature), render its scene without them (frame 0), from a copy in OUT_DIR.
         let film = text
             .lines()
             .any(|l| l.split_whitespace().next() == Some("animation"));
-        if film && env::var_os("CARGO_FEATURE_ANIMATE").is_none() {
+        let still = film && env::var_os("CARGO_FEATURE_ANIMATE").is_none();
+        let named = only.as_ref().is_some_and(|names| names.contains(&name));
+        if still && !named {
             let why = "a film: it needs the firmware's `animate` feature (`cargo xtask qemu --animations`)";
             writeln!(skipped, "    ({name:?}, {why:?}),").unwrap();
             continue;
         }
+        let (embedded, text) = if still {
+            let still = without_motions(&text);
+            let out = PathBuf::from(env::var("OUT_DIR").unwrap()).join(format!("{name}.txt"));
+            fs::write(&out, &still).unwrap();
+            (out, still)
+        } else {
+            (path.clone(), text)
+        };
         // The library's count, as a firmware author's `const` would make it.
         let needs = Capacities::of_text(text.as_bytes());
         let count = needs.objects;
@@ -165,7 +177,7 @@ fn main() {
         write!(
             table,
             "    SceneFile {{ name: {name:?}, text: include_str!({:?}), textures: &[",
-            path.display().to_string()
+            embedded.display().to_string()
         )
         .unwrap();
         for (written, file) in &textures {
@@ -238,4 +250,33 @@ const fn in_source(objects: usize, materials: usize, lights: usize, textures: us
         textures,
         max_width: 0,
     }
+}
+
+/// A film's text without its motion blocks (`animation`, `line`, `orbit`, `bounce`: each
+/// from its keyword's line to the brace that closes it, comments skipped).
+fn without_motions(text: &str) -> String {
+    const MOTIONS: [&str; 4] = ["animation", "line", "orbit", "bounce"];
+    let mut out = String::new();
+    let mut depth = 0usize;
+    let mut skipping = false;
+    for line in text.lines() {
+        let code = line.split('#').next().unwrap_or("");
+        if depth == 0 && !skipping {
+            skipping = code
+                .split_whitespace()
+                .next()
+                .is_some_and(|word| MOTIONS.contains(&word));
+        }
+        let opens = code.matches('{').count();
+        let closes = code.matches('}').count();
+        if !skipping {
+            out.push_str(line);
+            out.push('\n');
+        }
+        depth = (depth + opens).saturating_sub(closes);
+        if skipping && depth == 0 && closes > 0 {
+            skipping = false;
+        }
+    }
+    out
 }

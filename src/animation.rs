@@ -304,12 +304,17 @@ impl<'a, const MOTIONS: usize> Animation<'a, MOTIONS> {
     }
 
     /// [`show_frame`](Self::show_frame) for a film played frame after frame: `last` keeps
-    /// the region of the state the last frame showed, so that where one object moves (and
-    /// no light), its old state's region is the last frame's new one rather than worked out
-    /// again (half the region's work). Frames may come in any order, but `last` must have
-    /// seen every change of the scene since its last frame: change the scene only through
-    /// this method, or call [`forget`](LastFrame::forget) after other changes. Films that
-    /// move more than one object, or a light, work their regions out whole.
+    /// the region of the states the last frame showed, so that the moving objects' old
+    /// states' region is the last frame's new one rather than worked out again (half the
+    /// region's work). Frames may come in any order, but `last` must have seen every
+    /// change of the scene since its last frame: change the scene only through this
+    /// method, or call [`forget`](LastFrame::forget) after other changes. Films that move
+    /// a light or an infinite plane work their regions out whole.
+    ///
+    /// Why the last frame's region serves: a moving object's region depends on the rest of
+    /// the scene only through the objects that receive its shadows and the planes that
+    /// hide them. The planes stand still here, and a pixel on a moving receiver is in that
+    /// receiver's own outline, before and after.
     pub fn show_next_frame<
         S: Scalar,
         const OBJECTS: usize,
@@ -325,40 +330,66 @@ impl<'a, const MOTIONS: usize> Animation<'a, MOTIONS> {
         region: &mut Region<N>,
         last: &mut LastFrame<N>,
     ) -> Result<(), ErrorKind> {
-        let seen = last.slot.take();
-        let mut targets = self.targets();
-        let (Some(&Target::Object { index, def }), None) = (targets.next(), targets.next()) else {
-            return self.show_frame(frame, scene, region);
-        };
-        let slot = usize::from(index);
+        let seen = last.moving.take();
+        // The moving objects' slots, when they are all bounded and no light moves.
+        let mut moving = 0u64;
+        for target in self.targets() {
+            let bounded = match *target {
+                Target::Object { index, .. } => scene
+                    .objects()
+                    .get(usize::from(index))
+                    .is_some_and(|o| o.infinite_plane().is_none()),
+                Target::Light { .. } => false,
+            };
+            let bit = match *target {
+                Target::Object { index, .. } => 1u64.checked_shl(u32::from(index)),
+                Target::Light { .. } => None,
+            };
+            match (bounded, bit) {
+                (true, Some(bit)) => moving |= bit,
+                _ => return self.show_frame(frame, scene, region),
+            }
+        }
         let next = region.like();
         let old = core::mem::replace(&mut last.region, next);
-        if seen == Some(slot) && old.fits(region) {
+        if seen == Some(moving) && old.fits(region) {
             region.add_region(&old);
-        } else if let Some(object) = scene.objects().get(slot) {
-            region.add_object_state(&(&*scene).into(), object, slot);
+        } else {
+            let parts = (&*scene).into();
+            for (slot, object) in scene.objects().iter().enumerate() {
+                if moving >> slot & 1 == 1 {
+                    region.add_object_state(&parts, object, slot);
+                }
+            }
         }
-        let target = Target::Object { index, def };
-        let to = add(target.point(), self.offset(frame, &target));
-        scene.replace_object(slot, &moved_object(def, to))?;
+        for target in self.targets() {
+            if let Target::Object { index, def } = *target {
+                let to = add(target.point(), self.offset(frame, target));
+                if let Err(e) = scene.replace_object(usize::from(index), &moved_object(def, to)) {
+                    region.add_whole();
+                    return Err(e);
+                }
+            }
+        }
         let parts = (&*scene).into();
-        match scene.objects().get(slot) {
-            Some(new) => last.region.add_object_state(&parts, new, slot),
-            None => last.region.add_whole(),
+        for (slot, object) in scene.objects().iter().enumerate() {
+            if moving >> slot & 1 == 1 {
+                last.region.add_object_state(&parts, object, slot);
+            }
         }
         region.add_region(&last.region);
-        region.add_seen_beyond(&parts, |i| i == slot);
-        last.slot = Some(slot);
+        region.add_seen_beyond(&parts, |i| i < 64 && moving >> i & 1 == 1);
+        last.moving = Some(moving);
         Ok(())
     }
 }
 
 /// What playing a film keeps from one frame to the next (see
-/// [`Animation::show_next_frame`]): the region of the moving object's state as the last
-/// frame showed it, and the object's slot.
+/// [`Animation::show_next_frame`]): the region of the moving objects' states as the last
+/// frame showed them, and which slots they are in (a bit each).
 #[derive(Clone, Debug)]
 pub struct LastFrame<const N: usize> {
-    slot: Option<usize>,
+    moving: Option<u64>,
     region: Region<N>,
 }
 
@@ -366,14 +397,14 @@ impl<const N: usize> LastFrame<N> {
     /// Nothing seen yet (the first frame shown works its region out whole).
     pub fn new() -> Self {
         Self {
-            slot: None,
+            moving: None,
             region: Region::new(embedded_graphics::prelude::Size::zero()),
         }
     }
 
     /// Forgets the last frame: the scene was changed by other means.
     pub fn forget(&mut self) {
-        self.slot = None;
+        self.moving = None;
     }
 }
 

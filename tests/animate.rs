@@ -457,6 +457,75 @@ proptest! {
     }
 }
 
+/// A stage's props moved by straight motions over a few frames, played through
+/// [`Animation::show_next_frame`] (in order, then back to the start and on again: the
+/// last frame's region serves as the next one's old states) and compared with full frames.
+fn play_motions<S: Scalar>(film: &Film, by: &[(usize, [f64; 3])]) -> Result<(), TestCaseError> {
+    use microray::animation::{Animation, LastFrame, MotionDef, Path, Target};
+    let camera = CameraDef::new("c", [WIDTH as u32, HEIGHT as u32], [8.0, 6.0], film.eye);
+    let materials: Vec<_> = film
+        .stuffs
+        .iter()
+        .zip(NAMES)
+        .map(|(s, name)| material_def(name, s))
+        .collect();
+    let lights: Vec<_> = film.lamps.iter().map(light_def).collect();
+    let objects: Vec<_> = film.things.iter().map(Thing::def).collect();
+    let Ok(mut scene) = Room::<S>::from_defs(&camera, &materials, &[], &lights, &objects) else {
+        return Ok(());
+    };
+    let Ok(mut animation) = Animation::<'_, 4>::new("film", 5) else {
+        return Ok(());
+    };
+    for &(i, d) in by.iter().filter(|(i, _)| *i < objects.len()) {
+        let motion = MotionDef {
+            name: "m",
+            path: Path::Line { by: d },
+        };
+        let target = Target::Object {
+            index: i as u16,
+            def: objects[i],
+        };
+        prop_assert!(animation.add_motion(&motion, target).is_ok());
+    }
+    let mut shown = frame(&Renderer::<S, 5>::new(&scene), None);
+    let mut last = LastFrame::<8>::new();
+    for k in [1, 2, 3, 4, 0, 1, 2] {
+        let mut region = Region::<8>::new(Size::new(WIDTH as u32, HEIGHT as u32));
+        if animation
+            .show_next_frame(k, &mut scene, &mut region, &mut last)
+            .is_err()
+        {
+            // A state the type cannot hold: as a scene file would be refused.
+            return Ok(());
+        }
+        let renderer = Renderer::<S, 5>::new(&scene);
+        for area in region.rectangles() {
+            draw(&renderer, &mut shown, area, None);
+        }
+        let full = frame(&renderer, None);
+        prop_assert!(
+            shown.rgb() == full.rgb(),
+            "frame {k} differs in {}",
+            S::NAME
+        );
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(100))]
+    #[test]
+    fn films_played_frame_after_frame_are_full_frames(
+        film in stage(),
+        by in prop::collection::vec((2..5usize, [-2.0..2.0f64, -2.0..2.0f64, -2.0..2.0f64]), 1..4),
+    ) {
+        play_motions::<f64>(&film, &by)?;
+        play_motions::<f32>(&film, &by)?;
+        play_motions::<I16F16>(&film, &by)?;
+    }
+}
+
 /// The region leaves pixels out of random films: a third of them at least (else the
 /// property above would compare full frames with themselves).
 #[test]

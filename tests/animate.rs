@@ -302,8 +302,8 @@ fn play<S: Scalar>(film: &Film) -> Result<Saved, TestCaseError> {
     play_with::<S>(film, None)
 }
 
-/// [`play`], anti-aliased by `aa` when given.
-fn play_with<S: Scalar>(film: &Film, aa: Option<Antialias>) -> Result<Saved, TestCaseError> {
+/// The film's scene, if `S` can hold it.
+fn room<S: Scalar>(film: &Film) -> Option<Room<'static, S>> {
     let camera = CameraDef::new("c", [WIDTH as u32, HEIGHT as u32], [8.0, 6.0], film.eye);
     let materials: Vec<_> = film
         .stuffs
@@ -313,7 +313,13 @@ fn play_with<S: Scalar>(film: &Film, aa: Option<Antialias>) -> Result<Saved, Tes
         .collect();
     let lights: Vec<_> = film.lamps.iter().map(light_def).collect();
     let objects: Vec<_> = film.things.iter().map(Thing::def).collect();
-    let Ok(mut scene) = Room::<S>::from_defs(&camera, &materials, &[], &lights, &objects) else {
+    Room::<S>::from_defs(&camera, &materials, &[], &lights, &objects).ok()
+}
+
+/// [`play`], anti-aliased by `aa` when given.
+fn play_with<S: Scalar>(film: &Film, aa: Option<Antialias>) -> Result<Saved, TestCaseError> {
+    let objects: Vec<_> = film.things.iter().map(Thing::def).collect();
+    let Some(mut scene) = room::<S>(film) else {
         return Ok(Saved::default());
     };
     let (mut things, mut lamps) = (film.things.clone(), film.lamps.clone());
@@ -462,16 +468,8 @@ proptest! {
 /// last frame's region serves as the next one's old states) and compared with full frames.
 fn play_motions<S: Scalar>(film: &Film, by: &[(usize, [f64; 3])]) -> Result<(), TestCaseError> {
     use microray::animation::{Animation, LastFrame, MotionDef, Path, Target};
-    let camera = CameraDef::new("c", [WIDTH as u32, HEIGHT as u32], [8.0, 6.0], film.eye);
-    let materials: Vec<_> = film
-        .stuffs
-        .iter()
-        .zip(NAMES)
-        .map(|(s, name)| material_def(name, s))
-        .collect();
-    let lights: Vec<_> = film.lamps.iter().map(light_def).collect();
     let objects: Vec<_> = film.things.iter().map(Thing::def).collect();
-    let Ok(mut scene) = Room::<S>::from_defs(&camera, &materials, &[], &lights, &objects) else {
+    let Some(mut scene) = room::<S>(film) else {
         return Ok(());
     };
     let Ok(mut animation) = Animation::<'_, 4>::new("film", 5) else {

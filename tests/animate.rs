@@ -318,7 +318,6 @@ fn room<S: Scalar>(film: &Film) -> Option<Room<'static, S>> {
 
 /// [`play`], anti-aliased by `aa` when given.
 fn play_with<S: Scalar>(film: &Film, aa: Option<Antialias>) -> Result<Saved, TestCaseError> {
-    let objects: Vec<_> = film.things.iter().map(Thing::def).collect();
     let Some(mut scene) = room::<S>(film) else {
         return Ok(Saved::default());
     };

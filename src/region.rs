@@ -425,10 +425,13 @@ impl<const N: usize> Region<N> {
             let cone = Cone {
                 vertices: &vertices,
                 octagon,
-                ball: bounding_sphere(&vertices),
+                ball: bounding_sphere(&vertices, octagon),
             };
-            for receiver in scene.objects {
-                self.add_shadow_on(scene, mirror.as_ref(), l, &cone, receiver);
+            // Not the object itself: its own pixels are in its outline.
+            for (index, receiver) in scene.objects.iter().enumerate() {
+                if index != slot {
+                    self.add_shadow_on(scene, mirror.as_ref(), l, &cone, receiver);
+                }
             }
         }
     }
@@ -975,10 +978,15 @@ fn norm_1(v: Vec3<f64>) -> f64 {
     libm::fabs(v.x) + libm::fabs(v.y) + libm::fabs(v.z)
 }
 
-/// A sphere holding `points`: their mean and the farthest one's distance from it.
-fn bounding_sphere(points: &[Vec3<f64>; 8]) -> (Vec3<f64>, f64) {
+/// A sphere holding `points`: their mean and the farthest one's distance from it (for a
+/// regular `octagon`, every corner's: one root, widened by a millionth for its rounding).
+fn bounding_sphere(points: &[Vec3<f64>; 8], octagon: bool) -> (Vec3<f64>, f64) {
     let sum = points.iter().fold(Vec3::ZERO, |s, &p| s + p);
     let center = sum * 0.125;
+    if octagon {
+        let corner = points.first().map_or(0.0, |&p| (p - center).length());
+        return (center, corner * (1.0 + 1e-6));
+    }
     let radius = points
         .iter()
         .map(|&p| (p - center).length())

@@ -955,13 +955,16 @@ impl Polygon {
         }
     }
 
-    /// The largest `|p|_1` of the corners.
+    /// At least the largest `|p|_1` of the corners (a larger margin keeps more: safe).
     fn reach(&self) -> f64 {
-        let mut corners = [Vec3::ZERO; POLYGON];
-        self.corners(&mut corners)
+        // `|origin + x u + y v|_1 <= |origin|_1 + |x| |u|_1 + |y| |v|_1`: no corner built.
+        let (u, v) = (norm_1(self.u), norm_1(self.v));
+        let corners = self.points.get(..self.len).unwrap_or(&[]);
+        let farthest = corners
             .iter()
-            .map(|&p| norm_1(p))
-            .fold(0.0, f64::max)
+            .map(|p| libm::fabs(p[0]) * u + libm::fabs(p[1]) * v)
+            .fold(0.0, f64::max);
+        norm_1(self.origin) + farthest
     }
 
     /// The corners in space, into `out`.

@@ -837,9 +837,12 @@ impl Polygon {
                 + side * offset * lz
                 + margin * (height + libm::fabs(lz) + 1.0);
             let near = polygon.clipped(a, b);
-            if let Some(kept) = lit.union(&near) {
-                polygon = kept;
-            }
+            // Mostly one of them is empty (no hull to take).
+            polygon = match (lit.len, near.len) {
+                (_, 0) => lit,
+                (0, _) => near,
+                _ => lit.union(&near).unwrap_or(polygon),
+            };
         }
         polygon
     }
@@ -892,7 +895,9 @@ impl Polygon {
         out
     }
 
-    /// The hull of both (in the same plane); `None` when the corners do not fit.
+    /// The hull of both (in the same plane); `None` when the corners do not fit. Out of
+    /// line: its 32 corners would sit in the plane clip's frame (the micro:bit's stack).
+    #[inline(never)]
     fn union(&self, other: &Self) -> Option<Self> {
         let mut all = [[0.0; 2]; 2 * POLYGON];
         let count = self.len + other.len;

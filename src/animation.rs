@@ -311,10 +311,12 @@ impl<'a, const MOTIONS: usize> Animation<'a, MOTIONS> {
     /// method, or call [`forget`](LastFrame::forget) after other changes. Films that move
     /// a light or an infinite plane work their regions out whole.
     ///
-    /// Why the last frame's region serves: a moving object's region depends on the rest of
-    /// the scene only through the objects that receive its shadows and the planes that
-    /// hide them. The planes stand still here, and a pixel on a moving receiver is in that
-    /// receiver's own outline, before and after.
+    /// The old states are worked out in the scene as it was and the new ones in the scene
+    /// as it is, so the last frame's new region is this frame's old one. That serves: a
+    /// moving object's region depends on the rest of the scene only through the objects
+    /// that receive its shadows and the planes that hide them. The planes stand still
+    /// here, and a pixel on a moving receiver is in that receiver's own outline, before
+    /// and after.
     pub fn show_next_frame<
         S: Scalar,
         const OBJECTS: usize,
@@ -331,25 +333,32 @@ impl<'a, const MOTIONS: usize> Animation<'a, MOTIONS> {
         last: &mut LastFrame<N>,
     ) -> Result<(), ErrorKind> {
         let seen = last.moving.take();
-        // The moving objects' slots, when they are all bounded and no light moves.
+        // The moving objects' slots, a bit each, when all are bounded and no light moves.
         let mut moving = 0u64;
         for target in self.targets() {
-            let bounded = match *target {
-                Target::Object { index, .. } => scene
-                    .objects()
-                    .get(usize::from(index))
-                    .is_some_and(|o| o.infinite_plane().is_none()),
-                Target::Light { .. } => false,
-            };
             let bit = match *target {
-                Target::Object { index, .. } => 1u64.checked_shl(u32::from(index)),
-                Target::Light { .. } => None,
+                Target::Object { index, .. }
+                    if scene
+                        .objects()
+                        .get(usize::from(index))
+                        .is_some_and(|o| o.infinite_plane().is_none()) =>
+                {
+                    1u64.checked_shl(u32::from(index))
+                }
+                _ => None,
             };
-            match (bounded, bit) {
-                (true, Some(bit)) => moving |= bit,
-                _ => return self.show_frame(frame, scene, region),
-            }
+            let Some(bit) = bit else {
+                return self.show_frame(frame, scene, region);
+            };
+            moving |= bit;
         }
+        // Slots past 63 are never moving (and no shift overflows).
+        let moves = |slot: usize| {
+            u32::try_from(slot)
+                .ok()
+                .and_then(|s| moving.checked_shr(s))
+                .is_some_and(|m| m & 1 == 1)
+        };
         let next = region.like();
         let old = core::mem::replace(&mut last.region, next);
         if seen == Some(moving) && old.fits(region) {
@@ -357,7 +366,7 @@ impl<'a, const MOTIONS: usize> Animation<'a, MOTIONS> {
         } else {
             let parts = (&*scene).into();
             for (slot, object) in scene.objects().iter().enumerate() {
-                if moving >> slot & 1 == 1 {
+                if moves(slot) {
                     region.add_object_state(&parts, object, slot);
                 }
             }
@@ -373,12 +382,12 @@ impl<'a, const MOTIONS: usize> Animation<'a, MOTIONS> {
         }
         let parts = (&*scene).into();
         for (slot, object) in scene.objects().iter().enumerate() {
-            if moving >> slot & 1 == 1 {
+            if moves(slot) {
                 last.region.add_object_state(&parts, object, slot);
             }
         }
         region.add_region(&last.region);
-        region.add_seen_beyond(&parts, |i| i < 64 && moving >> i & 1 == 1);
+        region.add_seen_beyond(&parts, moves);
         last.moving = Some(moving);
         Ok(())
     }

@@ -570,23 +570,31 @@ impl<const N: usize> Region<N> {
         {
             return;
         }
-        for object in scene.objects {
-            if plan::materials_of(object)
-                .into_iter()
-                .flatten()
-                .any(|m| onward(scene, m))
-            {
-                self.add_box(plan::footprint(scene.camera, object));
-            }
+        for object in scene.objects.iter().filter(|o| goes_on(scene, o)) {
+            self.add_box(plan::footprint(scene.camera, object));
         }
     }
 }
 
-/// Whether rays that meet material `m` go on (a mirror, a transparent material).
-fn onward<S: Scalar>(scene: &Parts<'_, S>, m: u16) -> bool {
-    scene.materials.get(usize::from(m)).is_some_and(|m| {
-        (cfg!(feature = "reflection") && m.reflects())
-            || (cfg!(feature = "transparency") && m.transparency != S::ZERO)
+/// Whether rays that meet `object` can go on (it shows a mirror or a transparent
+/// material).
+fn goes_on<S: Scalar>(scene: &Parts<'_, S>, object: &Object<S>) -> bool {
+    let onward = |m: u16| {
+        scene.materials.get(usize::from(m)).is_some_and(|m| {
+            (cfg!(feature = "reflection") && m.reflects())
+                || (cfg!(feature = "transparency") && m.transparency != S::ZERO)
+        })
+    };
+    plan::materials_of(object).into_iter().flatten().any(onward)
+}
+
+/// Whether every material `object` shows is opaque.
+fn opaque<S: Scalar>(scene: &Parts<'_, S>, object: &Object<S>) -> bool {
+    plan::materials_of(object).into_iter().flatten().all(|m| {
+        scene
+            .materials
+            .get(usize::from(m))
+            .is_some_and(|m| m.transparency == S::ZERO)
     })
 }
 
@@ -603,23 +611,16 @@ struct Mirror {
 /// meets no mirror and no glass but the changed object, so it shows each other point of
 /// the scene along one path).
 fn lone_mirror<S: Scalar>(scene: &Parts<'_, S>, changed: usize) -> Option<Mirror> {
-    let mut onward_objects = scene.objects.iter().enumerate().filter(|&(i, object)| {
-        i != changed
-            && plan::materials_of(object)
-                .into_iter()
-                .flatten()
-                .any(|m| onward(scene, m))
-    });
+    let mut onward_objects = scene
+        .objects
+        .iter()
+        .enumerate()
+        .filter(|&(i, object)| i != changed && goes_on(scene, object));
     let (_, object) = onward_objects.next()?;
     if onward_objects.next().is_some() {
         return None;
     }
-    let opaque = plan::materials_of(object).into_iter().flatten().all(|m| {
-        scene
-            .materials
-            .get(usize::from(m))
-            .is_some_and(|m| m.transparency == S::ZERO)
-    });
+    let opaque = opaque(scene, object);
     let (plane, _) = flat(object)?;
     let n = plane.unit_normal.to_f64();
     let length = n.length();
@@ -798,20 +799,12 @@ impl Polygon {
     /// is in its way (the light on one side, the point clearly on the other, the crossing
     /// clearly within the z rule).
     fn in_light<S: Scalar>(self, scene: &Parts<'_, S>, l: Vec3<f64>, receiver: &Object<S>) -> Self {
-        let opaque = |m: u16| {
-            scene
-                .materials
-                .get(usize::from(m))
-                .is_some_and(|m| m.transparency == S::ZERO)
-        };
         let mut polygon = self;
         for object in scene.objects {
             let Some(plane) = object.infinite_plane() else {
                 continue;
             };
-            if core::ptr::eq(object, receiver)
-                || !plan::materials_of(object).into_iter().flatten().all(opaque)
-            {
+            if core::ptr::eq(object, receiver) || !opaque(scene, object) {
                 continue;
             }
             let n = plane.unit_normal.to_f64();

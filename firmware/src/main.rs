@@ -342,7 +342,7 @@ mod animating {
             0 => animation.frames(),
             n => n.min(animation.frames()),
         };
-        // The moving object's last region, so each frame works out only its new one.
+        // The moving objects' last region, so each frame works out only its new one.
         let mut last = LastFrame::<AREAS>::new();
         for k in 1..frames {
             stack::paint();

@@ -258,8 +258,8 @@ pub(crate) fn table(rows: &[Row], width: u16, height: u16, frames: Option<u16>) 
     out.push_str(
         "\nRAM (bytes, as the firmware reports them): the film (`Animation<4>`, its motions \
          with their targets' definitions) and the regions (a frame's `Region<8>` and the \
-         last frame's, `LastFrame<8>`), which live as long as the film plays, and the peak stack of the frames rendered in their region \
-         (moving the scene and working out the region included) and whole.\n\n\
+         last frame's, `LastFrame<8>`), which live as long as the film plays, and the peak \
+         stack of the frames rendered in their region (moving the scene and working out the region included) and whole.\n\n\
          | machine | number | film | region | peak stack, region frames | peak stack, whole frames |\n\
          |---|---|---|---|---|---|\n",
     );

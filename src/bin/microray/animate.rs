@@ -91,7 +91,7 @@ pub(crate) fn animate<S: Scalar>(
     // Adaptive anti-aliasing supersamples a pixel by what its neighbours show.
     let border = u16::from(matches!(options.aa, Some(Antialias::Adaptive { .. })));
     let mut region = Region::<AREAS>::new(size).with_border(border);
-    // The moving object's last region, so each frame works out only its new one.
+    // The moving objects' last region, so each frame works out only its new one.
     let mut last = microray::animation::LastFrame::<AREAS>::new();
     let mut image = Framebuffer::new(size);
     let mut traced = 0u64;

@@ -441,19 +441,32 @@ impl View {
         let Some(first) = corners.first() else {
             return Heights::ALL;
         };
-        let mut blur_sin = 0.0f64;
+        // Bounds on a corner's distance without a square root (soft float's are slow):
+        // `|d|_1` above it, `|d|_1 / sqrt 2` below. Its blur, `steps + ANGLE_MARGIN |d|_1`,
+        // over the bound below falls as `|d|_1` grows, and the blur is less than half the
+        // bound below the more easily the larger `|d|_1`: the nearest corner decides both
+        // (one quotient, where each corner took one).
+        let mut nearest = f64::INFINITY;
+        // Whether every corner lies before the eye's plane, or every one behind it.
+        let (mut before, mut behind) = (true, true);
         for corner in corners {
-            // Bounds on the distance without a square root (soft float's are slow): `|d|_1`
-            // above it, `|d|_1 / sqrt 2` below.
             let [dx, dy] = direction(corner);
             let above = libm::fabs(dx) + libm::fabs(dy);
-            let below = above * core::f64::consts::FRAC_1_SQRT_2;
-            let blur = RESOLUTION_STEPS * resolution + ANGLE_MARGIN * above;
-            if !(below > 2.0 * blur) {
+            if !(above < f64::INFINITY) {
                 return Heights::ALL;
             }
-            blur_sin = blur_sin.max(blur / below);
+            nearest = nearest.min(above);
+            before &= dy < 0.0;
+            behind &= dy > 0.0;
         }
+        let below = nearest * core::f64::consts::FRAC_1_SQRT_2;
+        let blur = RESOLUTION_STEPS * resolution + ANGLE_MARGIN * nearest;
+        if !(below > 2.0 * blur) {
+            return Heights::ALL;
+        }
+        // Up by more than the few roundings by which a farther corner's quotient could
+        // have come out above the nearest one's.
+        let blur_sin = blur / below * (1.0 + 1e-14);
         // Sweep out the extremes from the first corner; within less than half a turn each
         // corner is clockwise of `low`, anticlockwise of `high`, or between them.
         let (mut low, mut high) = (direction(first), direction(first));
@@ -465,10 +478,14 @@ impl View {
             }
         }
         // More than half a turn (the eye inside the outline) breaks the sweep: all rows.
-        let spans_all = corners
-            .iter()
-            .map(direction)
-            .all(|d| cross(low, d) >= 0.0 && cross(d, high) >= 0.0);
+        // Directions within a half plane (every corner on one side of the eye) span less,
+        // and need no check.
+        let spans_all = before
+            || behind
+            || corners
+                .iter()
+                .map(direction)
+                .all(|d| cross(low, d) >= 0.0 && cross(d, high) >= 0.0);
         if !spans_all || cross(low, high) < 0.0 {
             return Heights::ALL;
         }

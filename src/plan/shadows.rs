@@ -137,23 +137,40 @@ impl ShadowBoxes {
         // One array of points for every call below, filled in place: returned by value
         // through the calls, its copies were the frame's largest part (RAM on a Cortex-M0).
         let mut points = [Vec3::ZERO; 8];
+        // One occluder's shadow is bounded or not as its points are projected: no pass to
+        // check it first (soft float's `f64`).
+        let single = occluders.len() == 1;
         for (number, light) in lights.iter().enumerate() {
             let number = u8::try_from(number).ok()?;
-            for &receiver in &receivers {
+            'receivers: for &receiver in &receivers {
                 // One shadow that is not bounded, and every pixel tests the light: the
                 // others are not worth their outlines (soft float's `f64`).
-                let bounded = occluders.iter().all(|&index| {
-                    objects.get(usize::from(index)).is_some_and(|object| {
-                        shadow_points(light, object, receiver.into(), objects, false, &mut points)
+                let bounded = single
+                    || occluders.iter().all(|&index| {
+                        objects.get(usize::from(index)).is_some_and(|object| {
+                            shadow_points(
+                                light,
+                                object,
+                                receiver.into(),
+                                objects,
+                                false,
+                                &mut points,
+                            )
                             .is_some()
-                    })
-                });
+                        })
+                    });
                 if !bounded || entries.len() + occluders.len() > BOXES {
                     continue;
                 }
                 for &index in &occluders {
                     let object = objects.get(usize::from(index))?;
-                    shadow_points(light, object, receiver.into(), objects, true, &mut points)?;
+                    let projected =
+                        shadow_points(light, object, receiver.into(), objects, true, &mut points);
+                    match projected {
+                        Some(()) => {}
+                        None if single => continue 'receivers,
+                        None => return None,
+                    }
                     let mut screen = ScreenBox {
                         rows: rows.span(rows.outline(&points, S::MIN_NORMAL)),
                         columns: columns.span(columns.outline(&points, S::MIN_NORMAL)),

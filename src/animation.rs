@@ -359,10 +359,8 @@ impl<'a, const MOTIONS: usize> Animation<'a, MOTIONS> {
                 .and_then(|s| moving.checked_shr(s))
                 .is_some_and(|m| m & 1 == 1)
         };
-        let next = region.like();
-        let old = core::mem::replace(&mut last.region, next);
-        if seen == Some(moving) && old.fits(region) {
-            region.add_region(&old);
+        if seen == Some(moving) && last.region.fits(region) {
+            region.add_region(&last.region);
         } else {
             let parts = (&*scene).into();
             for (slot, object) in scene.objects().iter().enumerate() {
@@ -371,6 +369,9 @@ impl<'a, const MOTIONS: usize> Animation<'a, MOTIONS> {
                 }
             }
         }
+        // The last frame's region is spent: this frame's new states take its place, in
+        // place (a second region on the stack was 400 bytes of a Cortex-M0's RAM).
+        last.region.reset_like(region);
         for target in self.targets() {
             if let Target::Object { index, def } = *target {
                 let to = add(target.point(), self.offset(frame, target));

@@ -245,15 +245,95 @@ pub(crate) fn footprint<S: Scalar>(camera: &Camera<S>, object: &Object<S>) -> Sc
     }
 }
 
-/// The rows and columns whose primary rays can reach the hull of `points` (the whole
-/// screen where the hull holds the eye or spans half a turn).
+/// Into `octagon`, an octagon whose hull's outline holds a ball's (a sphere, or a
+/// surface of revolution's bounding ball) as [`footprint`] widens it: about the cone from
+/// the eye tangent to the ball widened as [`View::sphere`] widens it. `false` (nothing
+/// written) for other kinds, and where the eye is in or near the ball.
 #[cfg(feature = "animate")]
-pub(crate) fn outline<S: Scalar>(camera: &Camera<S>, points: &[Vec3<f64>]) -> ScreenBox {
+pub(crate) fn outline_octagon<S: Scalar>(
+    camera: &Camera<S>,
+    object: &Object<S>,
+    octagon: &mut [Vec3<f64>; 8],
+) -> bool {
+    let (center, radius) = match object.shape() {
+        Shape::Sphere(s) => (s.center.to_f64(), s.radius.to_f64()),
+        Shape::RevSurf(s) if cfg!(feature = "revsurf") => (s.center.to_f64(), s.bound.to_f64()),
+        _ => return false,
+    };
+    let eye = camera.viewpoint().to_f64();
+    let d = center - eye;
+    let distance = libm::fabs(d.x) + libm::fabs(d.y) + libm::fabs(d.z);
+    let r = radius + ANGLE_MARGIN * (distance + radius) + RESOLUTION_STEPS * S::MIN_NORMAL;
+    shadows::cone_octagon(center, r, eye, octagon)
+}
+
+/// Weights `[a, b]` and bounds on `a x + b y` (low, high) and `a x - b y` (low, high).
+#[cfg(feature = "animate")]
+pub(crate) type CutBounds = ([i32; 2], [f64; 4]);
+
+/// The rows and columns whose primary rays can reach the hull of `points` (the whole
+/// screen where the hull holds the eye or spans half a turn), and, where every point lies
+/// before the eye and the box is bounded, bounds on `a x + b y` and `a x - b y` over the
+/// pixels `(x, y)` (`y = 0` the top) whose primary rays can reach it, `[a, b]` from
+/// `weights` of the box (none: no cut): the lines that cut its corners. A pixel can lie as far from the
+/// points' own pixels along each axis as the box's margins (the larger widening of its two
+/// ends: a turn by an angle moves a screen height the more, the farther it is from the
+/// eye's, and the end farther from it is turned away from it) and its one row more.
+#[cfg(feature = "animate")]
+pub(crate) fn outline_cut<S: Scalar>(
+    camera: &Camera<S>,
+    points: &[Vec3<f64>],
+    weights: impl Fn(&ScreenBox) -> Option<[i32; 2]>,
+) -> (ScreenBox, Option<CutBounds>) {
     let (rows, columns) = (View::new(camera, false), View::new(camera, true));
-    ScreenBox {
-        rows: rows.span(rows.outline(points, S::MIN_NORMAL)),
-        columns: columns.span(columns.outline(points, S::MIN_NORMAL)),
-    }
+    let (row_heights, column_heights) = (
+        rows.outline(points, S::MIN_NORMAL),
+        columns.outline(points, S::MIN_NORMAL),
+    );
+    let screen = ScreenBox {
+        rows: rows.span(row_heights),
+        columns: columns.span(column_heights),
+    };
+    let cut = (|| {
+        let [a, b] = weights(&screen)?;
+        let ([ex, ez], [ey, _]) = (columns.eye, rows.eye);
+        if !(rows.row_height > 0.0 && columns.row_height > 0.0) {
+            return None;
+        }
+        // One quotient a point, one a view (soft float's are slow).
+        let (per_column, per_row) = (1.0 / columns.row_height, 1.0 / rows.row_height);
+        let top = f64::from(rows.height.saturating_sub(1));
+        let (af, bf) = (f64::from(a), f64::from(b));
+        let mut x_range = [f64::INFINITY, f64::NEG_INFINITY];
+        let mut row_range = x_range;
+        let (mut sum, mut difference) = (x_range, x_range);
+        let widen =
+            |[lo, hi]: [f64; 2], v: f64| [if v < lo { v } else { lo }, if v > hi { v } else { hi }];
+        for p in points {
+            // Where the eye's ray through `p` meets the screen (`z = 0`), in pixels.
+            let ahead = ez - p.z;
+            if !(ahead > 1e-9 * (libm::fabs(ez) + libm::fabs(p.z))) {
+                return None;
+            }
+            let k = ez / ahead;
+            let x = (ex + (p.x - ex) * k) * per_column;
+            let row = (ey + (p.y - ey) * k) * per_row;
+            let y = top - row;
+            x_range = widen(x_range, x);
+            row_range = widen(row_range, row);
+            sum = widen(sum, af * x + bf * y);
+            difference = widen(difference, af * x - bf * y);
+        }
+        let margin = |[lo, hi]: [f64; 2], heights: Heights, per: f64| {
+            let (wide_lo, wide_hi) = (heights.lo * per, heights.hi * per);
+            (lo - wide_lo).max(wide_hi - hi).max(0.0) + 1.0
+        };
+        let m = af * margin(x_range, column_heights, per_column)
+            + bf * margin(row_range, row_heights, per_row);
+        let bounds = [sum[0] - m, sum[1] + m, difference[0] - m, difference[1] + m];
+        (m.is_finite() && bounds.iter().all(|v| v.is_finite())).then_some(([a, b], bounds))
+    })();
+    (screen, cut)
 }
 
 /// The rows whose primary rays can reach an infinite plane, every column.

@@ -90,12 +90,13 @@ struct Outline {
     cut: Option<Corners>,
 }
 
-/// A [`Cut`] as an outline keeps it, from its box's top left corner `(left, top)`, `h`
-/// rows high: pixel `(x, y)` of the box is within it when
+/// Four lines about a convex set of pixels, as an outline keeps them, from its box's top
+/// left corner `(left, top)`, `h` rows high: pixel `(x, y)` of the box is within them when
 /// `sum[0] <= a (x - left) + b (y - top) <= sum[1]` and
 /// `difference[0] <= a (x - left) - b (y - top) + b h <= difference[1]` (both from 0 to
-/// `a w + b h`, `w` the box's width less one, which fits u16: 20 bytes an outline, where
-/// the cut's own form took 36).
+/// `a w + b h`, `w` the box's width less one, which fits u16: 20 bytes an outline). With
+/// `a` and `b` the box's height and width, the lines run along its diagonals, and an
+/// ellipse's octagon is 1.055 times its area where its box is 1.27.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct Corners {
     a: u8,
@@ -104,26 +105,54 @@ struct Corners {
     difference: [u16; 2],
 }
 
+/// The least pixels of a box, a point of its hull, worth a cut: a cut keeps about 85 % of a
+/// box, and a point's projection in soft `f64` costs about four pixels' tracing on the
+/// Cortex-M4F in `f32` (an estimate; every hull of the films in `scenes/` passes).
+const CUT_PRICE: u32 = 24;
+
 impl Corners {
-    /// `cut` from the top left of `area`; `None` where the box is too large to keep it.
-    fn of(cut: Cut, area: Area) -> Option<Self> {
-        let (a, b) = (i32::from(cut.a), i32::from(cut.b));
+    /// Weights for a box `width` by `height` pixels: the lines along its diagonals (any
+    /// positive ones hold the pixels; up to 16, so that an outline keeps them in a byte and
+    /// `a x + b y` over a box up to 2047 pixels wide and high in 16 bits).
+    fn weights(width: u16, height: u16) -> [i32; 2] {
+        let longer = width.max(height).max(1);
+        let scaled =
+            |side: u16| ((i32::from(side) * 16 + i32::from(longer) / 2) / i32::from(longer)).max(1);
+        [scaled(height), scaled(width)]
+    }
+
+    /// The cut with weights `[a, b]` and bounds (`a x + b y` low and high, then
+    /// `a x - b y`, `y = 0` the top) rounded out, `border` pixels further out along both
+    /// axes, from the top left of `area`; `None` where the box is too large to keep it.
+    fn of(([a, b], bounds): plan::CutBounds, border: u16, area: Area) -> Option<Self> {
+        let (a_byte, b_byte) = (u8::try_from(a).ok()?, u8::try_from(b).ok()?);
+        let (a, b) = (i32::from(a_byte), i32::from(b_byte));
         let (w, h) = (
             i32::from(area.right - area.left),
             i32::from(area.bottom - area.top),
         );
         let (left, top) = (i32::from(area.left), i32::from(area.top));
         let most = u16::try_from(a * w + b * h).ok()?;
-        // Every pixel of the box lies from 0 to `most`: clamped, each bound still holds it.
-        let kept = |v: i32| u16::try_from(v.clamp(0, i32::from(most))).unwrap_or(most);
-        let (sum_from, difference_from) = (a * left + b * top, a * left - b * top - b * h);
+        // Whole numbers below 2^53 after the floor and ceiling, so every subtraction is
+        // exact; every pixel of the box lies from 0 to `most`: clamped, each bound still
+        // holds it.
+        let out = f64::from((a + b) * i32::from(border));
+        let kept = |v: f64| v.clamp(0.0, f64::from(most)) as u16;
+        let from = |v: i32| f64::from(v);
+        let (sum_from, difference_from) =
+            (from(a * left + b * top), from(a * left - b * top - b * h));
+        let [sum_low, sum_high, low_difference, high_difference] = bounds;
         Some(Self {
-            a: u8::try_from(cut.a).ok()?,
-            b: u8::try_from(cut.b).ok()?,
-            sum: cut.sum.map(|v| kept(v.saturating_sub(sum_from))),
-            difference: cut
-                .difference
-                .map(|v| kept(v.saturating_sub(difference_from))),
+            a: a_byte,
+            b: b_byte,
+            sum: [
+                kept(libm::floor(sum_low) - out - sum_from),
+                kept(libm::ceil(sum_high) + out - sum_from),
+            ],
+            difference: [
+                kept(libm::floor(low_difference) - out - difference_from),
+                kept(libm::ceil(high_difference) + out - difference_from),
+            ],
         })
     }
 
@@ -143,68 +172,6 @@ impl Corners {
             left + ceil(s0 - by).max(ceil(d0 + by - bh)),
             left + floor(s1 - by).min(floor(d1 + by - bh)),
         )
-    }
-}
-
-/// Four lines about a convex set of pixels: pixel `(x, y)` is within them when
-/// `sum[0] <= a x + b y <= sum[1]` and `difference[0] <= a x - b y <= difference[1]`
-/// (`a` and `b` positive: with a box's height and width, the lines run along its
-/// diagonals, and an ellipse's octagon is 1.055 times its area where its box is 1.27).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct Cut {
-    a: u16,
-    b: u16,
-    sum: [i32; 2],
-    difference: [i32; 2],
-}
-
-/// The least pixels of a box, a point of its hull, worth a cut: a cut keeps about 85 % of a
-/// box, and a point's projection in soft `f64` costs about four pixels' tracing on the
-/// Cortex-M4F in `f32` (an estimate; every hull of the films in `scenes/` passes).
-const CUT_PRICE: u32 = 24;
-
-/// The thresholds' bound: every pixel's `a x +- b y` is within `2^25`.
-const CUT_BOUND: f64 = (1u32 << 30) as f64;
-
-impl Cut {
-    /// Weights for a box `width` by `height` pixels: the lines along its diagonals (any
-    /// positive ones hold the pixels; up to 16, so that an outline keeps them in a byte and
-    /// `a x + b y` over a box up to 2047 pixels wide and high in 16 bits).
-    fn weights(width: u16, height: u16) -> [i32; 2] {
-        let longer = width.max(height).max(1);
-        let scaled =
-            |side: u16| ((i32::from(side) * 16 + i32::from(longer) / 2) / i32::from(longer)).max(1);
-        [scaled(height), scaled(width)]
-    }
-
-    /// The cut with weights `[a, b]` and bounds (`a x + b y` low and high, then
-    /// `a x - b y`) rounded out.
-    fn new(
-        [a, b]: [i32; 2],
-        [sum_low, sum_high, low_difference, high_difference]: [f64; 4],
-    ) -> Self {
-        // Clamped, each still holds every pixel (their values are within 2^25).
-        let low = |v: f64| libm::floor(v).clamp(-CUT_BOUND, CUT_BOUND) as i32;
-        let high = |v: f64| libm::ceil(v).clamp(-CUT_BOUND, CUT_BOUND) as i32;
-        // Weights are 1 to 16.
-        let weight = |w: i32| u16::try_from(w).unwrap_or(1);
-        Self {
-            a: weight(a),
-            b: weight(b),
-            sum: [low(sum_low), high(sum_high)],
-            difference: [low(low_difference), high(high_difference)],
-        }
-    }
-
-    /// The same cut, `pixels` further out along both axes.
-    fn widened(self, pixels: u16) -> Self {
-        let out = (i32::from(self.a) + i32::from(self.b)).saturating_mul(i32::from(pixels));
-        let wider = |[lo, hi]: [i32; 2]| [lo.saturating_sub(out), hi.saturating_add(out)];
-        Self {
-            sum: wider(self.sum),
-            difference: wider(self.difference),
-            ..self
-        }
     }
 }
 
@@ -379,7 +346,7 @@ impl<const N: usize> Region<N> {
 
     /// Adds the pixels of a rectangle (widened by the border, clipped to the screen)
     /// within `cut`.
-    fn add_cut(&mut self, rectangle: Rectangle, cut: Option<Cut>) {
+    fn add_cut(&mut self, rectangle: Rectangle, cut: Option<plan::CutBounds>) {
         let Some(bottom_right) = rectangle.bottom_right() else {
             return;
         };
@@ -413,7 +380,7 @@ impl<const N: usize> Region<N> {
             bottom: clamp(high.1, bottom),
         };
         self.push(area);
-        let cut = cut.and_then(|c| Corners::of(c.widened(self.border), area));
+        let cut = cut.and_then(|c| Corners::of(c, self.border, area));
         self.keep(Outline { area, cut });
     }
 
@@ -604,15 +571,14 @@ impl<const N: usize> Region<N> {
             let price = u32::try_from(points.len())
                 .unwrap_or(u32::MAX)
                 .saturating_mul(CUT_PRICE);
-            (pixels >= price).then(|| Cut::weights(width, height))
+            (pixels >= price).then(|| Corners::weights(width, height))
         };
         let (screen, cut) = plan::outline_cut(camera, points, weights);
-        let cut = cut.map(|(weights, bounds)| Cut::new(weights, bounds));
         self.add_box_cut(meet(screen, within), cut);
     }
 
     /// [`add_box`](Self::add_box), the pixels within `cut`.
-    fn add_box_cut(&mut self, screen: ScreenBox, cut: Option<Cut>) {
+    fn add_box_cut(&mut self, screen: ScreenBox, cut: Option<plan::CutBounds>) {
         let (rows, columns) = (screen.rows, screen.columns);
         let top_row = self.height.saturating_sub(1);
         if rows.first > rows.last || columns.first > columns.last || rows.first > top_row {

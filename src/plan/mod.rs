@@ -275,10 +275,11 @@ pub(crate) type CutBounds = ([i32; 2], [f64; 4]);
 /// screen where the hull holds the eye or spans half a turn), and, where every point lies
 /// before the eye and the box is bounded, bounds on `a x + b y` and `a x - b y` over the
 /// pixels `(x, y)` (`y = 0` the top) whose primary rays can reach it, `[a, b]` from
-/// `weights` of the box (none: no cut): the lines that cut its corners. A pixel can lie as far from the
-/// points' own pixels along each axis as the box's margins (the larger widening of its two
-/// ends: a turn by an angle moves a screen height the more, the farther it is from the
-/// eye's, and the end farther from it is turned away from it) and its one row more.
+/// `weights` of the box (none: no cut): the lines that cut its corners. A pixel can lie as
+/// far from the points' own pixels along each axis as the box's margins (the larger
+/// widening of its two ends: a turn by an angle moves a screen height the more, the farther
+/// it is from the eye's, and the end farther from it is turned away from it) and its one
+/// row more.
 #[cfg(feature = "animate")]
 pub(crate) fn outline_cut<S: Scalar>(
     camera: &Camera<S>,

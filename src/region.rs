@@ -676,9 +676,14 @@ impl<const N: usize> Region<N> {
                 return;
             }
             let l = light.location.to_f64();
-            let Some(octagon) =
-                plan::widened_vertices(object, l, S::MIN_NORMAL, true, &mut vertices)
-            else {
+            let Some(octagon) = plan::widened_vertices(
+                object,
+                l,
+                S::MIN_NORMAL,
+                plan::TIGHT_ANGLE,
+                true,
+                &mut vertices,
+            ) else {
                 // Not bounded (an infinite plane), or a panel in line with the light.
                 return self.add_whole();
             };
@@ -1339,7 +1344,7 @@ mod tests {
 
     proptest! {
         /// The pixels about the image of every point of a hull are in the region (its
-        /// corners' cut keeps its box's margins: a pixel on each side).
+        /// corners' cut keeps its box's margins: half a pixel on each side).
         #[test]
         fn a_hull_keeps_the_pixels_about_its_points(
             eye in (0.0..8.0f64, 0.0..6.0f64, 2.0..12.0f64),
@@ -1380,13 +1385,12 @@ mod tests {
                     .zip(weights)
                     .fold(Vec3::ZERO, |q, (&p, &w)| q + p * (w / total));
                 let [x, y] = pixel(q);
+                // The pixels whose anti-aliased samples can lie on it (within half a pixel),
+                // and the border more.
                 let b = f64::from(border);
-                for (px, py) in [
-                    (libm::floor(x) - b, libm::floor(y) - b),
-                    (libm::ceil(x) + b, libm::ceil(y) + b),
-                    (libm::floor(x) - b, libm::ceil(y) + b),
-                    (libm::ceil(x) + b, libm::floor(y) - b),
-                ] {
+                let [x0, x1] = [libm::ceil(x - 0.5) - b, libm::floor(x + 0.5) + b];
+                let [y0, y1] = [libm::ceil(y - 0.5) - b, libm::floor(y + 0.5) + b];
+                for (px, py) in [(x0, y0), (x1, y1), (x0, y1), (x1, y0)] {
                     if (0.0..f64::from(W)).contains(&px) && (0.0..f64::from(H)).contains(&py) {
                         prop_assert_eq!(
                             traced[py as usize][px as usize], 1,
@@ -1442,12 +1446,10 @@ mod tests {
                 // A point on the ball.
                 let q = c + d * (radius / d.length());
                 let [x, y] = pixel(q);
-                for (px, py) in [
-                    (libm::floor(x), libm::floor(y)),
-                    (libm::ceil(x), libm::ceil(y)),
-                    (libm::floor(x), libm::ceil(y)),
-                    (libm::ceil(x), libm::floor(y)),
-                ] {
+                // The pixels whose anti-aliased samples can lie on it.
+                let [x0, x1] = [libm::ceil(x - 0.5), libm::floor(x + 0.5)];
+                let [y0, y1] = [libm::ceil(y - 0.5), libm::floor(y + 0.5)];
+                for (px, py) in [(x0, y0), (x1, y1), (x0, y1), (x1, y0)] {
                     if (0.0..f64::from(W)).contains(&px) && (0.0..f64::from(H)).contains(&py) {
                         prop_assert_eq!(
                             traced[py as usize][px as usize], 1,

@@ -38,6 +38,12 @@ pub(crate) use shadows::{OnPlane, shadow_on_plane, widened_vertices};
 /// type microray has (about 1e-5 for Q16.16).
 const ANGLE_MARGIN: f64 = 2e-3;
 
+/// [`ANGLE_MARGIN`] for a moving picture's region (see [`crate::region`]): an eighth of
+/// it, still 25 times the direction error of Q16.16, where each margin adds a ring of
+/// pixels to trace about every change.
+#[cfg(feature = "animate")]
+pub(crate) const TIGHT_ANGLE: f64 = ANGLE_MARGIN / 8.0;
+
 /// `cos` and `sin` of [`ANGLE_MARGIN`] (no trigonometry in the library).
 const COS_MARGIN: f64 = 0.999_998_000_000_666_6;
 const SIN_MARGIN: f64 = 0.001_999_998_666_666_933_3;
@@ -246,8 +252,8 @@ pub(crate) fn footprint<S: Scalar>(camera: &Camera<S>, object: &Object<S>) -> Sc
 }
 
 /// Into `octagon`, an octagon whose hull's outline holds a ball's (a sphere, or a
-/// surface of revolution's bounding ball) as [`footprint`] widens it: about the cone from
-/// the eye tangent to the ball widened as [`View::sphere`] widens it. `false` (nothing
+/// surface of revolution's bounding ball): about the cone from the eye tangent to the ball
+/// widened as [`View::sphere`] widens it, with [`TIGHT_ANGLE`]. `false` (nothing
 /// written) for other kinds, and where the eye is in or near the ball.
 #[cfg(feature = "animate")]
 pub(crate) fn outline_octagon<S: Scalar>(
@@ -263,7 +269,7 @@ pub(crate) fn outline_octagon<S: Scalar>(
     let eye = camera.viewpoint().to_f64();
     let d = center - eye;
     let distance = libm::fabs(d.x) + libm::fabs(d.y) + libm::fabs(d.z);
-    let r = radius + ANGLE_MARGIN * (distance + radius) + RESOLUTION_STEPS * S::MIN_NORMAL;
+    let r = radius + TIGHT_ANGLE * (distance + radius) + RESOLUTION_STEPS * S::MIN_NORMAL;
     shadows::cone_octagon(center, r, eye, octagon)
 }
 
@@ -277,9 +283,10 @@ pub(crate) type CutBounds = ([i32; 2], [f64; 4]);
 /// pixels `(x, y)` (`y = 0` the top) whose primary rays can reach it, `[a, b]` from
 /// `weights` of the box (none: no cut): the lines that cut its corners. A pixel can lie as
 /// far from the points' own pixels along each axis as the box's margins (the larger
-/// widening of its two ends: a turn by an angle moves a screen height the more, the farther
-/// it is from the eye's, and the end farther from it is turned away from it) and its one
-/// row more.
+/// widening of its two ends, by [`TIGHT_ANGLE`]: a turn by an angle moves a screen height
+/// the more, the farther it is from the eye's, and the end farther from it is turned away
+/// from it) and half a row more (pixel `(x, y)`'s ray passes through its point, and the
+/// samples of an anti-aliased pixel lie within half a row of it).
 #[cfg(feature = "animate")]
 pub(crate) fn outline_cut<S: Scalar>(
     camera: &Camera<S>,
@@ -288,12 +295,12 @@ pub(crate) fn outline_cut<S: Scalar>(
 ) -> (ScreenBox, Option<CutBounds>) {
     let (rows, columns) = (View::new(camera, false), View::new(camera, true));
     let (row_heights, column_heights) = (
-        rows.outline(points, S::MIN_NORMAL),
-        columns.outline(points, S::MIN_NORMAL),
+        rows.outline_by(points, S::MIN_NORMAL, TIGHT_ANGLE),
+        columns.outline_by(points, S::MIN_NORMAL, TIGHT_ANGLE),
     );
     let screen = ScreenBox {
-        rows: rows.span(row_heights),
-        columns: columns.span(column_heights),
+        rows: rows.span_tight(row_heights),
+        columns: columns.span_tight(column_heights),
     };
     let cut = (|| {
         let [a, b] = weights(&screen)?;
@@ -327,7 +334,7 @@ pub(crate) fn outline_cut<S: Scalar>(
         }
         let margin = |[lo, hi]: [f64; 2], heights: Heights, per: f64| {
             let (wide_lo, wide_hi) = (heights.lo * per, heights.hi * per);
-            (lo - wide_lo).max(wide_hi - hi).max(0.0) + 1.0
+            (lo - wide_lo).max(wide_hi - hi).max(0.0) + 0.5
         };
         let m = af * margin(x_range, column_heights, per_column)
             + bf * margin(row_range, row_heights, per_row);
@@ -515,6 +522,11 @@ impl View {
     /// A rectangle, seen along x, is the hull of its corners: the arc their directions span.
     /// Any set of points: the arc of its hull.
     fn outline(&self, corners: &[Vec3<f64>], resolution: f64) -> Heights {
+        self.outline_by(corners, resolution, ANGLE_MARGIN)
+    }
+
+    /// [`outline`](Self::outline), each direction widened by `angle` radians.
+    fn outline_by(&self, corners: &[Vec3<f64>], resolution: f64, angle: f64) -> Heights {
         let direction = |corner: &Vec3<f64>| {
             let (corner, _) = self.seen(*corner);
             [corner[0] - self.eye[0], corner[1] - self.eye[1]]
@@ -541,7 +553,7 @@ impl View {
             behind &= dy > 0.0;
         }
         let below = nearest * core::f64::consts::FRAC_1_SQRT_2;
-        let blur = RESOLUTION_STEPS * resolution + ANGLE_MARGIN * nearest;
+        let blur = RESOLUTION_STEPS * resolution + angle * nearest;
         if !(below > 2.0 * blur) {
             return Heights::ALL;
         }
@@ -601,9 +613,26 @@ impl View {
 
     /// The rows whose screen height lies in `heights`, one more on each side.
     fn span(&self, heights: Heights) -> RowSpan {
+        self.rows_from(
+            libm::floor(heights.lo / self.row_height) - 1.0,
+            libm::ceil(heights.hi / self.row_height) + 1.0,
+        )
+    }
+
+    /// The rows whose screen height lies within half a row of `heights` (those whose
+    /// anti-aliased samples can lie in it).
+    #[cfg(feature = "animate")]
+    fn span_tight(&self, heights: Heights) -> RowSpan {
+        self.rows_from(
+            libm::ceil(heights.lo / self.row_height - 0.5),
+            libm::floor(heights.hi / self.row_height + 0.5),
+        )
+    }
+
+    /// Rows `lo` to `hi` (whole numbers) on the screen: all of them where either is not a
+    /// number.
+    fn rows_from(&self, lo: f64, hi: f64) -> RowSpan {
         let top = f64::from(self.height.saturating_sub(1));
-        let lo = libm::floor(heights.lo / self.row_height) - 1.0;
-        let hi = libm::ceil(heights.hi / self.row_height) + 1.0;
         if lo.is_nan() || hi.is_nan() || !(self.row_height > 0.0) {
             return RowSpan::ALL;
         }

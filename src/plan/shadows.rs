@@ -249,7 +249,7 @@ fn shadow_points<S: Scalar>(
     points: &mut [Vec3<f64>; 8],
 ) -> Option<()> {
     let l = light.location.to_f64();
-    widened_vertices(object, l, S::MIN_NORMAL, false, points)?;
+    widened_vertices(object, l, S::MIN_NORMAL, ANGLE_MARGIN, false, points)?;
     let plane = objects.get(usize::from(receiver))?.infinite_plane()?;
     let n = plane.unit_normal.to_f64();
     let offset = plane.n_dot_point.to_f64();
@@ -327,7 +327,7 @@ fn bounded<S: Scalar>(object: &Object<S>) -> bool {
 }
 
 /// Into `vertices`, the vertices of a polytope holding `object` widened by the module's
-/// margins (seen from a light at `l`): a cube about a ball along the axes (or, with
+/// margins, directions by `angle` radians (seen from a light at `l`): a cube about a ball along the axes (or, with
 /// `facing_the_light`, an octagon about the cone of its shadow: [`cone_octagon`]), a slab
 /// about a panel; `None` for other kinds and for a panel nearly in line with the light.
 ///
@@ -336,6 +336,7 @@ pub(crate) fn widened_vertices<S: Scalar>(
     object: &Object<S>,
     l: Vec3<f64>,
     resolution: f64,
+    angle: f64,
     facing_the_light: bool,
     vertices: &mut [Vec3<f64>; 8],
 ) -> Option<bool> {
@@ -344,7 +345,7 @@ pub(crate) fn widened_vertices<S: Scalar>(
             .iter()
             .map(|&p| norm_1(p - l) + norm_1(p))
             .fold(0.0, f64::max);
-        SHADOW_STEPS * resolution + ANGLE_MARGIN * reach
+        SHADOW_STEPS * resolution + angle * reach
     };
     let (center, radius) = match object.shape() {
         Shape::Sphere(s) => (s.center.to_f64(), s.radius.to_f64()),

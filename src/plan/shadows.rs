@@ -327,9 +327,10 @@ fn bounded<S: Scalar>(object: &Object<S>) -> bool {
 }
 
 /// Into `vertices`, the vertices of a polytope holding `object` widened by the module's
-/// margins, directions by `angle` radians (seen from a light at `l`): a cube about a ball along the axes (or, with
-/// `facing_the_light`, an octagon about the cone of its shadow: [`cone_octagon`]), a slab
-/// about a panel; `None` for other kinds and for a panel nearly in line with the light.
+/// margins, directions by `angle` radians (seen from a light at `l`): a cube about a ball
+/// along the axes (or, with `facing_the_light`, an octagon about the cone of its shadow:
+/// [`cone_octagon`]), a slab about a panel; `None` for other kinds and for a panel nearly
+/// in line with the light.
 ///
 /// `Some(true)` for the octagon (a flat polygon: the shadow is the pyramid beyond it).
 pub(crate) fn widened_vertices<S: Scalar>(

@@ -680,7 +680,7 @@ impl<const N: usize> Region<N> {
                 object,
                 l,
                 S::MIN_NORMAL,
-                plan::TIGHT_ANGLE,
+                plan::region_angle(scene.camera),
                 true,
                 &mut vertices,
             ) else {

@@ -39,10 +39,30 @@ pub(crate) use shadows::{OnPlane, shadow_on_plane, widened_vertices};
 const ANGLE_MARGIN: f64 = 2e-3;
 
 /// [`ANGLE_MARGIN`] for a moving picture's region (see [`crate::region`]): an eighth of
-/// it, still 25 times the direction error of Q16.16, where each margin adds a ring of
-/// pixels to trace about every change.
+/// it, where each margin adds a ring of pixels to trace about every change; with the eye
+/// far enough from the screen, 20 times the direction error of Q16.16 (see
+/// [`region_angle`]).
 #[cfg(feature = "animate")]
-pub(crate) const TIGHT_ANGLE: f64 = ANGLE_MARGIN / 8.0;
+const TIGHT_ANGLE: f64 = ANGLE_MARGIN / 8.0;
+
+/// The angle a moving picture's region widens its hulls by, for `camera` in type `S`:
+/// [`TIGHT_ANGLE`], and eight times the turn that a step of rounding in a point of the
+/// screen gives a primary ray (one step of the type's resolution in fixed point; of its
+/// precision at the screen's reach in floating point), which grows as the eye nears the
+/// screen (one step of Q16.16 turns a ray 0.2 from the screen by 1e-4 radians).
+#[cfg(feature = "animate")]
+pub(crate) fn region_angle<S: Scalar>(camera: &Camera<S>) -> f64 {
+    let eye = camera.viewpoint().to_f64();
+    let [wx, wy] = camera.world().map(|w| libm::fabs(w.to_f64()));
+    let step = if S::WIDE_RANGE {
+        S::UNIT_STEP * (wx + wy + libm::fabs(eye.x) + libm::fabs(eye.y) + libm::fabs(eye.z))
+    } else {
+        S::MIN_NORMAL
+    };
+    let angle = TIGHT_ANGLE + 8.0 * step / libm::fabs(eye.z);
+    // The eye on the screen's plane, or nearly: every margin as wide as it gets.
+    if angle < 1.0 { angle } else { 1.0 }
+}
 
 /// `cos` and `sin` of [`ANGLE_MARGIN`] (no trigonometry in the library).
 const COS_MARGIN: f64 = 0.999_998_000_000_666_6;
@@ -253,7 +273,7 @@ pub(crate) fn footprint<S: Scalar>(camera: &Camera<S>, object: &Object<S>) -> Sc
 
 /// Into `octagon`, an octagon whose hull's outline holds a ball's (a sphere, or a
 /// surface of revolution's bounding ball): about the cone from the eye tangent to the ball
-/// widened as [`View::sphere`] widens it, with [`TIGHT_ANGLE`]. `false` (nothing
+/// widened as [`View::sphere`] widens it, by [`region_angle`]. `false` (nothing
 /// written) for other kinds, and where the eye is in or near the ball.
 #[cfg(feature = "animate")]
 pub(crate) fn outline_octagon<S: Scalar>(
@@ -269,7 +289,8 @@ pub(crate) fn outline_octagon<S: Scalar>(
     let eye = camera.viewpoint().to_f64();
     let d = center - eye;
     let distance = libm::fabs(d.x) + libm::fabs(d.y) + libm::fabs(d.z);
-    let r = radius + TIGHT_ANGLE * (distance + radius) + RESOLUTION_STEPS * S::MIN_NORMAL;
+    let angle = region_angle(camera);
+    let r = radius + angle * (distance + radius) + RESOLUTION_STEPS * S::MIN_NORMAL;
     shadows::cone_octagon(center, r, eye, octagon)
 }
 
@@ -283,7 +304,7 @@ pub(crate) type CutBounds = ([i32; 2], [f64; 4]);
 /// pixels `(x, y)` (`y = 0` the top) whose primary rays can reach it, `[a, b]` from
 /// `weights` of the box (none: no cut): the lines that cut its corners. A pixel can lie as
 /// far from the points' own pixels along each axis as the box's margins (the larger
-/// widening of its two ends, by [`TIGHT_ANGLE`]: a turn by an angle moves a screen height
+/// widening of its two ends, by [`region_angle`]: a turn by an angle moves a screen height
 /// the more, the farther it is from the eye's, and the end farther from it is turned away
 /// from it) and half a row more (pixel `(x, y)`'s ray passes through its point, and the
 /// samples of an anti-aliased pixel lie within half a row of it).
@@ -294,9 +315,10 @@ pub(crate) fn outline_cut<S: Scalar>(
     weights: impl Fn(&ScreenBox) -> Option<[i32; 2]>,
 ) -> (ScreenBox, Option<CutBounds>) {
     let (rows, columns) = (View::new(camera, false), View::new(camera, true));
+    let angle = region_angle(camera);
     let (row_heights, column_heights) = (
-        rows.outline_by(points, S::MIN_NORMAL, TIGHT_ANGLE),
-        columns.outline_by(points, S::MIN_NORMAL, TIGHT_ANGLE),
+        rows.outline_by(points, S::MIN_NORMAL, angle),
+        columns.outline_by(points, S::MIN_NORMAL, angle),
     );
     let screen = ScreenBox {
         rows: rows.span_tight(row_heights),
@@ -740,5 +762,75 @@ mod tests {
         assert_eq!(ball.rows(60), ball.last - ball.first + 1);
         assert_eq!(RowSpan::NONE.rows(60), 0);
         assert_eq!(RowSpan::ALL.rows(60), 60);
+    }
+    /// The angle between a primary ray of type `S` and the exact ray from the same (rounded)
+    /// eye through its pixel's point, the largest over every pixel of a camera.
+    #[cfg(feature = "animate")]
+    fn largest_turn<S: Scalar>(camera: &CameraDef<'_>) -> f64 {
+        let scene: Scene<'_, S, 1, 1, 1, 0, 1024> =
+            Scene::from_defs(camera, &[], &[], &[], &[]).unwrap();
+        let camera = scene.camera();
+        let eye = camera.viewpoint().to_f64();
+        let [wx, wy] = camera.world().map(|w| w.to_f64());
+        let (w, h) = (camera.width(), camera.height());
+        let mut largest: f64 = 0.0;
+        for y in 0..h {
+            for (x, ray) in camera.row_rays(y, 0).enumerate() {
+                let Some(ray) = ray else { continue };
+                let point = Vec3::new(
+                    wx * x as f64 / f64::from(w - 1),
+                    wy * f64::from(y) / f64::from(h - 1),
+                    0.0,
+                );
+                let (exact, traced) = (point - eye, ray.dir.to_f64());
+                let sin = exact.cross(traced).length() / (exact.length() * traced.length());
+                largest = largest.max(sin);
+            }
+        }
+        largest
+    }
+
+    /// The region's margin ([`region_angle`]) stays well above the direction error of every
+    /// number type's primary rays: measured over whole screens of cameras near, far, wide
+    /// and off-centre, up to 1024 pixels wide.
+    #[cfg(feature = "animate")]
+    #[test]
+    fn primary_rays_turn_far_less_than_the_region_margin() {
+        let cameras = [
+            CameraDef::new("c", [160, 120], [8.0, 6.0], [4.0, 3.0, 6.0]),
+            CameraDef::new("c", [320, 240], [8.0, 6.0], [-20.0, 40.0, 3.0]),
+            CameraDef::new("c", [1024, 768], [8.0, 6.0], [4.0, 3.0, 0.2]),
+            CameraDef::new("c", [241, 181], [400.0, 300.0], [200.0, 150.0, 900.0]),
+            CameraDef::new("c", [640, 480], [8.0, 6.0], [4.0, 3.0, 30.0]),
+            CameraDef::new("c", [320, 240], [8.0, 6.0], [4.0, 3.0, 0.02]),
+        ];
+        let angle = |def: &CameraDef<'_>, fixed: bool| {
+            let scene: Scene<'_, f32, 1, 1, 1, 0, 1024> =
+                Scene::from_defs(def, &[], &[], &[], &[]).unwrap();
+            let fixed_scene: Scene<'_, crate::scalar::I16F16, 1, 1, 1, 0, 1024> =
+                Scene::from_defs(def, &[], &[], &[], &[]).unwrap();
+            if fixed {
+                region_angle(fixed_scene.camera())
+            } else {
+                region_angle(scene.camera())
+            }
+        };
+        for camera in &cameras {
+            let (f32_turn, fixed_turn) = (
+                largest_turn::<f32>(camera),
+                largest_turn::<crate::scalar::I16F16>(camera),
+            );
+            // Q16.16's turn is one step of 2^-16 over the eye's distance from the screen
+            // (1e-4 from 0.2 away); f32's its precision at the screen's reach over it.
+            let (fixed_angle, f32_angle) = (angle(camera, true), angle(camera, false));
+            assert!(
+                fixed_turn < fixed_angle / 4.0,
+                "{camera:?}: Q16.16 turns by {fixed_turn:e}"
+            );
+            assert!(
+                f32_turn < f32_angle / 4.0,
+                "{camera:?}: f32 turns by {f32_turn:e}"
+            );
+        }
     }
 }

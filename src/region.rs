@@ -1385,17 +1385,27 @@ mod tests {
                     .zip(weights)
                     .fold(Vec3::ZERO, |q, (&p, &w)| q + p * (w / total));
                 let [x, y] = pixel(q);
-                // The pixels whose anti-aliased samples can lie on it (within half a pixel),
-                // and the border more.
-                let b = f64::from(border);
-                let [x0, x1] = [libm::ceil(x - 0.5) - b, libm::floor(x + 0.5) + b];
-                let [y0, y1] = [libm::ceil(y - 0.5) - b, libm::floor(y + 0.5) + b];
-                for (px, py) in [(x0, y0), (x1, y1), (x0, y1), (x1, y0)] {
-                    if (0.0..f64::from(W)).contains(&px) && (0.0..f64::from(H)).contains(&py) {
-                        prop_assert_eq!(
-                            traced[py as usize][px as usize], 1,
-                            "pixel ({}, {}) of point ({}, {}) left out", px, py, x, y
-                        );
+                // The pixels on the screen whose anti-aliased samples can lie on it (within
+                // half a pixel), and those within the border of them (a pixel off the
+                // screen changes no neighbour's supersampling: it is not there).
+                let on_screen = |px: f64, py: f64| {
+                    (0.0..f64::from(W)).contains(&px) && (0.0..f64::from(H)).contains(&py)
+                };
+                let [x0, x1] = [libm::ceil(x - 0.5), libm::floor(x + 0.5)];
+                let [y0, y1] = [libm::ceil(y - 0.5), libm::floor(y + 0.5)];
+                let b = i32::from(border);
+                for (cx, cy) in [(x0, y0), (x1, y1), (x0, y1), (x1, y0)] {
+                    if !on_screen(cx, cy) {
+                        continue;
+                    }
+                    for (dx, dy) in (-b..=b).flat_map(|dx| (-b..=b).map(move |dy| (dx, dy))) {
+                        let (px, py) = (cx + f64::from(dx), cy + f64::from(dy));
+                        if on_screen(px, py) {
+                            prop_assert_eq!(
+                                traced[py as usize][px as usize], 1,
+                                "pixel ({}, {}) of point ({}, {}) left out", px, py, x, y
+                            );
+                        }
                     }
                 }
             }
@@ -1443,8 +1453,12 @@ mod tests {
             for &(x, y, z) in &on {
                 let d = Vec3::new(x, y, z);
                 prop_assume!(d.length() > 1e-3);
-                // A point on the ball.
+                // A point on the ball, where a primary ray can reach it: before the eye
+                // (a large ball near the eye reaches behind it).
                 let q = c + d * (radius / d.length());
+                if q.z >= eye.2 {
+                    continue;
+                }
                 let [x, y] = pixel(q);
                 // The pixels whose anti-aliased samples can lie on it.
                 let [x0, x1] = [libm::ceil(x - 0.5), libm::floor(x + 0.5)];

@@ -328,6 +328,9 @@ fn play_with<S: Scalar>(film: &Film, aa: Option<Antialias>) -> Result<Saved, Tes
         let border = u16::from(matches!(aa, Some(Antialias::Adaptive { .. })));
         let mut region =
             Region::<8>::new(Size::new(WIDTH as u32, HEIGHT as u32)).with_border(border);
+        if aa.is_none() {
+            region = region.with_one_ray_a_pixel();
+        }
         let (mut olds, mut materials) = (Vec::new(), Vec::new());
         for change in changes {
             match *change {
@@ -488,7 +491,8 @@ fn play_motions<S: Scalar>(film: &Film, by: &[(usize, [f64; 3])]) -> Result<(), 
     let mut shown = frame(&Renderer::<S, 5>::new(&scene), None);
     let mut last = LastFrame::<8>::new();
     for k in [1, 2, 3, 4, 0, 1, 2] {
-        let mut region = Region::<8>::new(Size::new(WIDTH as u32, HEIGHT as u32));
+        let mut region =
+            Region::<8>::new(Size::new(WIDTH as u32, HEIGHT as u32)).with_one_ray_a_pixel();
         if animation
             .show_next_frame(k, &mut scene, &mut region, &mut last)
             .is_err()
@@ -701,7 +705,7 @@ mod films {
             _ => k,
         });
         for (i, frame) in order.enumerate() {
-            let mut region = Region::<16>::new(size);
+            let mut region = Region::<16>::new(size).with_one_ray_a_pixel();
             if i == 0 {
                 region.add_whole();
             } else if how == Play::Alone || (how == Play::Jumping && i % 7 == 3) {

@@ -401,7 +401,8 @@ mod animating {
         let mut row = [Rgb::default(); WIDTH as usize];
         RENDER_BASE.store(stack::depth(), Ordering::Relaxed);
         microray_count_start();
-        let mut region = Region::<AREAS>::new(Size::new(u32::from(WIDTH), u32::from(HEIGHT)));
+        let mut region = Region::<AREAS>::new(Size::new(u32::from(WIDTH), u32::from(HEIGHT)))
+            .with_one_ray_a_pixel();
         let moved = animation.show_next_frame(k, scene, &mut region, last);
         let renderer = Renderer::new(&*scene);
         let mut result = moved.map_err(|_| "a frame does not load");

@@ -306,12 +306,14 @@ pub(crate) type CutBounds = ([i32; 2], [f64; 4]);
 /// far from the points' own pixels along each axis as the box's margins (the larger
 /// widening of its two ends, by [`region_angle`]: a turn by an angle moves a screen height
 /// the more, the farther it is from the eye's, and the end farther from it is turned away
-/// from it) and half a row more (pixel `(x, y)`'s ray passes through its point, and the
-/// samples of an anti-aliased pixel lie within half a row of it).
+/// from it) and `spread` rows more: pixel `(x, y)`'s ray passes through its point, and the
+/// samples of an anti-aliased pixel lie within half a row of it (`spread` 0.5; 0 for one
+/// ray a pixel).
 #[cfg(feature = "animate")]
 pub(crate) fn outline_cut<S: Scalar>(
     camera: &Camera<S>,
     points: &[Vec3<f64>],
+    spread: f64,
     weights: impl Fn(&ScreenBox) -> Option<[i32; 2]>,
 ) -> (ScreenBox, Option<CutBounds>) {
     let (rows, columns) = (View::new(camera, false), View::new(camera, true));
@@ -321,8 +323,8 @@ pub(crate) fn outline_cut<S: Scalar>(
         columns.outline_by(points, S::MIN_NORMAL, angle),
     );
     let screen = ScreenBox {
-        rows: rows.span_tight(row_heights),
-        columns: columns.span_tight(column_heights),
+        rows: rows.span_tight(row_heights, spread),
+        columns: columns.span_tight(column_heights, spread),
     };
     let cut = (|| {
         let [a, b] = weights(&screen)?;
@@ -356,7 +358,7 @@ pub(crate) fn outline_cut<S: Scalar>(
         }
         let margin = |[lo, hi]: [f64; 2], heights: Heights, per: f64| {
             let (wide_lo, wide_hi) = (heights.lo * per, heights.hi * per);
-            (lo - wide_lo).max(wide_hi - hi).max(0.0) + 0.5
+            (lo - wide_lo).max(wide_hi - hi).max(0.0) + spread
         };
         let m = af * margin(x_range, column_heights, per_column)
             + bf * margin(row_range, row_heights, per_row);
@@ -641,13 +643,13 @@ impl View {
         )
     }
 
-    /// The rows whose screen height lies within half a row of `heights` (those whose
-    /// anti-aliased samples can lie in it).
+    /// The rows whose screen height lies within `spread` rows of `heights` (half a row:
+    /// those whose anti-aliased samples can lie in it; none: those whose one ray can).
     #[cfg(feature = "animate")]
-    fn span_tight(&self, heights: Heights) -> RowSpan {
+    fn span_tight(&self, heights: Heights, spread: f64) -> RowSpan {
         self.rows_from(
-            libm::ceil(heights.lo / self.row_height - 0.5),
-            libm::floor(heights.hi / self.row_height + 0.5),
+            libm::ceil(heights.lo / self.row_height - spread),
+            libm::floor(heights.hi / self.row_height + spread),
         )
     }
 

@@ -88,9 +88,13 @@ pub(crate) fn animate<S: Scalar>(
         bar.set_style(style.unwrap_or_else(|_| ProgressStyle::default_bar()));
         bar
     });
-    // Adaptive anti-aliasing supersamples a pixel by what its neighbours show.
+    // Adaptive anti-aliasing supersamples a pixel by what its neighbours show; without
+    // anti-aliasing a pixel is the one ray through its point.
     let border = u16::from(matches!(options.aa, Some(Antialias::Adaptive { .. })));
     let mut region = Region::<AREAS>::new(size).with_border(border);
+    if options.aa.is_none() {
+        region = region.with_one_ray_a_pixel();
+    }
     // The moving objects' last region, so each frame works out only its new one.
     let mut last = microray::animation::LastFrame::<AREAS>::new();
     let mut image = Framebuffer::new(size);

@@ -319,8 +319,8 @@ pub(crate) fn outline_cut<S: Scalar>(
     let (rows, columns) = (View::new(camera, false), View::new(camera, true));
     let angle = region_angle(camera);
     let (row_heights, column_heights) = (
-        rows.outline_by(points, S::MIN_NORMAL, angle),
-        columns.outline_by(points, S::MIN_NORMAL, angle),
+        rows.outline_by(points, S::MIN_NORMAL, angle, at_least(angle)),
+        columns.outline_by(points, S::MIN_NORMAL, angle, at_least(angle)),
     );
     let screen = ScreenBox {
         rows: rows.span_tight(row_heights, spread),
@@ -447,10 +447,19 @@ fn turn(a: [f64; 2], cos: f64, sin: f64) -> [f64; 2] {
 
 /// The sine and cosine of an angle widened by [`ANGLE_MARGIN`].
 fn widened(sin: f64, cos: f64) -> (f64, f64) {
-    (
-        sin * COS_MARGIN + cos * SIN_MARGIN,
-        cos * COS_MARGIN - sin * SIN_MARGIN,
-    )
+    widened_by(sin, cos, (SIN_MARGIN, COS_MARGIN))
+}
+
+/// The sine and cosine of an angle widened by the one whose sine and cosine are given.
+fn widened_by(sin: f64, cos: f64, (by_sin, by_cos): (f64, f64)) -> (f64, f64) {
+    (sin * by_cos + cos * by_sin, cos * by_cos - sin * by_sin)
+}
+
+/// The sine and cosine of an angle at least `angle` radians (small): `angle` and
+/// `1 - angle^2`, below its true cosine (so the angle is larger).
+#[cfg(feature = "animate")]
+fn at_least(angle: f64) -> (f64, f64) {
+    (angle, 1.0 - angle * angle)
 }
 
 /// The camera seen along the x axis (rows: the eye `(y, z)`) or along the y axis (columns:
@@ -546,11 +555,19 @@ impl View {
     /// A rectangle, seen along x, is the hull of its corners: the arc their directions span.
     /// Any set of points: the arc of its hull.
     fn outline(&self, corners: &[Vec3<f64>], resolution: f64) -> Heights {
-        self.outline_by(corners, resolution, ANGLE_MARGIN)
+        self.outline_by(corners, resolution, ANGLE_MARGIN, (SIN_MARGIN, COS_MARGIN))
     }
 
-    /// [`outline`](Self::outline), each direction widened by `angle` radians.
-    fn outline_by(&self, corners: &[Vec3<f64>], resolution: f64, angle: f64) -> Heights {
+    /// [`outline`](Self::outline) with a blur of `angle` radians a unit of distance, its
+    /// directions then turned out by the angle whose sine and cosine are `widening` (the
+    /// plan's [`ANGLE_MARGIN`]; a region's own angle).
+    fn outline_by(
+        &self,
+        corners: &[Vec3<f64>],
+        resolution: f64,
+        angle: f64,
+        widening: (f64, f64),
+    ) -> Heights {
         let direction = |corner: &Vec3<f64>| {
             let (corner, _) = self.seen(*corner);
             [corner[0] - self.eye[0], corner[1] - self.eye[1]]
@@ -606,9 +623,10 @@ impl View {
         if !spans_all || cross(low, high) < 0.0 {
             return Heights::ALL;
         }
-        let (sin, cos) = widened(
+        let (sin, cos) = widened_by(
             blur_sin,
             crate::scalar::sqrt_f64_rough(1.0 - blur_sin * blur_sin),
+            widening,
         );
         self.arc(turn(low, cos, -sin), turn(high, cos, sin))
     }

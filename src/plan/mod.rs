@@ -318,6 +318,9 @@ pub(crate) fn outline_cut<S: Scalar>(
 ) -> (ScreenBox, Option<CutBounds>) {
     let (rows, columns) = (View::new(camera, false), View::new(camera, true));
     let angle = region_angle(camera);
+    if let Some(seen) = Seen::of(&rows, &columns, points, angle, S::MIN_NORMAL) {
+        return seen.cut(&rows, &columns, points, spread, weights);
+    }
     let (row_heights, column_heights) = (
         rows.outline_by(points, S::MIN_NORMAL, angle, at_least(angle)),
         columns.outline_by(points, S::MIN_NORMAL, angle, at_least(angle)),
@@ -366,6 +369,179 @@ pub(crate) fn outline_cut<S: Scalar>(
         (m.is_finite() && bounds.iter().all(|v| v.is_finite())).then_some(([a, b], bounds))
     })();
     (screen, cut)
+}
+
+/// Points all clearly before the eye as the screen shows them: the columns and rows their
+/// images span (pixels, rows from the bottom) and how far a pixel whose primary ray meets
+/// their hull can lie from it along each (what [`View::outline_by`] widens by, in closed
+/// form: one projection a point, where its two sweeps and the cut's projection took three
+/// passes).
+#[cfg(feature = "animate")]
+struct Seen {
+    projection: Projection,
+    columns: [f64; 2],
+    rows: [f64; 2],
+    margins: [f64; 2],
+}
+
+#[cfg(feature = "animate")]
+impl Seen {
+    /// `None` where a point is not clearly before the eye, or the widening is not small.
+    fn of(
+        rows: &View,
+        columns: &View,
+        points: &[Vec3<f64>],
+        angle: f64,
+        resolution: f64,
+    ) -> Option<Self> {
+        let projection = Projection::new(rows, columns)?;
+        let e = projection.eye;
+        let mut column_range = [f64::INFINITY, f64::NEG_INFINITY];
+        let mut row_range = column_range;
+        // Each view's nearest point, `|d|_1` (as `View::outline_by` takes it).
+        let mut nearest = [f64::INFINITY; 2];
+        for p in points {
+            let [x, row] = projection.of(p)?;
+            column_range = widen(column_range, x);
+            row_range = widen(row_range, row);
+            let along = libm::fabs(p.z - e.z);
+            nearest = [
+                nearest[0].min(libm::fabs(p.x - e.x) + along),
+                nearest[1].min(libm::fabs(p.y - e.y) + along),
+            ];
+        }
+        let margins = [
+            projection.turned(column_range, nearest[0], angle, resolution, true)?,
+            projection.turned(row_range, nearest[1], angle, resolution, false)?,
+        ];
+        Some(Self {
+            projection,
+            columns: column_range,
+            rows: row_range,
+            margins,
+        })
+    }
+
+    /// [`outline_cut`] of the points seen: the pixels within the margins and `spread` of
+    /// their images, and the cut's bounds (a second projection a point, for the weights
+    /// that the box's size gives).
+    fn cut(
+        &self,
+        rows: &View,
+        columns: &View,
+        points: &[Vec3<f64>],
+        spread: f64,
+        weights: impl Fn(&ScreenBox) -> Option<[i32; 2]>,
+    ) -> (ScreenBox, Option<CutBounds>) {
+        let [mx, my] = self.margins.map(|m| m + spread);
+        let span = |view: &View, [lo, hi]: [f64; 2], m: f64| {
+            view.rows_from(libm::ceil(lo - m), libm::floor(hi + m))
+        };
+        let screen = ScreenBox {
+            rows: span(rows, self.rows, my),
+            columns: span(columns, self.columns, mx),
+        };
+        let cut = (|| {
+            let [a, b] = weights(&screen)?;
+            let (af, bf) = (f64::from(a), f64::from(b));
+            let mut sum = [f64::INFINITY, f64::NEG_INFINITY];
+            let mut difference = sum;
+            for p in points {
+                let [x, row] = self.projection.of(p)?;
+                let y = self.projection.top - row;
+                sum = widen(sum, af * x + bf * y);
+                difference = widen(difference, af * x - bf * y);
+            }
+            let m = af * mx + bf * my;
+            let bounds = [sum[0] - m, sum[1] + m, difference[0] - m, difference[1] + m];
+            (m.is_finite() && bounds.iter().all(|v| v.is_finite())).then_some(([a, b], bounds))
+        })();
+        (screen, cut)
+    }
+}
+
+/// `[lo, hi]` widened to hold `v`.
+#[cfg(feature = "animate")]
+fn widen([lo, hi]: [f64; 2], v: f64) -> [f64; 2] {
+    [if v < lo { v } else { lo }, if v > hi { v } else { hi }]
+}
+
+/// Where the eye's rays through points meet the screen (`z = 0`), in pixels: `x` from the
+/// left, rows from the bottom, pixel `(x, y)`'s ray passing through its point exactly.
+#[cfg(feature = "animate")]
+struct Projection {
+    eye: Vec3<f64>,
+    /// Pixels a world unit along `x` and `y` (one quotient a view: soft float's are slow).
+    per_column: f64,
+    per_row: f64,
+    /// The top row.
+    top: f64,
+}
+
+#[cfg(feature = "animate")]
+impl Projection {
+    fn new(rows: &View, columns: &View) -> Option<Self> {
+        if !(rows.row_height > 0.0 && columns.row_height > 0.0) {
+            return None;
+        }
+        let ([ex, ez], [ey, _]) = (columns.eye, rows.eye);
+        Some(Self {
+            eye: Vec3::new(ex, ey, ez),
+            per_column: 1.0 / columns.row_height,
+            per_row: 1.0 / rows.row_height,
+            top: f64::from(rows.height.saturating_sub(1)),
+        })
+    }
+
+    /// `p`'s column and row (`0` the bottom); `None` unless `p` lies clearly before the
+    /// eye.
+    fn of(&self, p: &Vec3<f64>) -> Option<[f64; 2]> {
+        let e = self.eye;
+        let ahead = e.z - p.z;
+        if !(ahead > 1e-9 * (libm::fabs(e.z) + libm::fabs(p.z))) {
+            return None;
+        }
+        let k = e.z / ahead;
+        Some([
+            (e.x + (p.x - e.x) * k) * self.per_column,
+            (e.y + (p.y - e.y) * k) * self.per_row,
+        ])
+    }
+
+    /// How far, in pixels along `x` (`columns`) or up the rows, a ray's crossing of the
+    /// screen within `range` (pixels) moves when its direction turns by what
+    /// [`View::outline_by`] widens a hull's directions by (`nearest` its points' least
+    /// `|d|_1` from the eye in that view, `angle` and `resolution` as there): turned by
+    /// `a` radians, a crossing `u` from the eye's foot moves at most `a h^2 / (e - a h)`,
+    /// `h^2 = e^2 + u^2`, `e` the eye's height over the screen (the tangent's growth).
+    /// `None` where that is not small (the eye near the screen, or the turn large).
+    fn turned(
+        &self,
+        [lo, hi]: [f64; 2],
+        nearest: f64,
+        angle: f64,
+        resolution: f64,
+        columns: bool,
+    ) -> Option<f64> {
+        let (per, foot) = if columns {
+            (self.per_column, self.eye.x)
+        } else {
+            (self.per_row, self.eye.y)
+        };
+        let e = self.eye.z;
+        let blur = RESOLUTION_STEPS * resolution + angle * nearest;
+        let below = nearest * core::f64::consts::FRAC_1_SQRT_2;
+        if !(below > 2.0 * blur && e > 0.0 && per > 0.0) {
+            return None;
+        }
+        // The blur's angle (`asin x <= 1.05 x` for `x` below a half), then the turn by
+        // `angle`, and a millionth more for the roundings here.
+        let a = (blur / below * 1.05 + angle) * (1.0 + 1e-6);
+        let u = libm::fabs(lo / per - foot).max(libm::fabs(hi / per - foot));
+        let h = libm::sqrt(e * e + u * u) * (1.0 + 1e-6);
+        let room = e - a * h;
+        (room > 0.5 * e).then(|| a * h * h / room * per)
+    }
 }
 
 /// The rows whose primary rays can reach an infinite plane, every column.

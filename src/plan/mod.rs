@@ -329,44 +329,20 @@ pub(crate) fn outline_cut<S: Scalar>(
         rows: rows.span_tight(row_heights, spread),
         columns: columns.span_tight(column_heights, spread),
     };
+    // Rare: a hull whose points all lie before the eye takes the closed form above.
     let cut = (|| {
         let [a, b] = weights(&screen)?;
-        let ([ex, ez], [ey, _]) = (columns.eye, rows.eye);
-        if !(rows.row_height > 0.0 && columns.row_height > 0.0) {
-            return None;
-        }
-        // One quotient a point, one a view (soft float's are slow).
-        let (per_column, per_row) = (1.0 / columns.row_height, 1.0 / rows.row_height);
-        let top = f64::from(rows.height.saturating_sub(1));
-        let (af, bf) = (f64::from(a), f64::from(b));
-        let mut x_range = [f64::INFINITY, f64::NEG_INFINITY];
-        let mut row_range = x_range;
-        let (mut sum, mut difference) = (x_range, x_range);
-        let widen =
-            |[lo, hi]: [f64; 2], v: f64| [if v < lo { v } else { lo }, if v > hi { v } else { hi }];
-        for p in points {
-            // Where the eye's ray through `p` meets the screen (`z = 0`), in pixels.
-            let ahead = ez - p.z;
-            if !(ahead > 1e-9 * (libm::fabs(ez) + libm::fabs(p.z))) {
-                return None;
-            }
-            let k = ez / ahead;
-            let x = (ex + (p.x - ex) * k) * per_column;
-            let row = (ey + (p.y - ey) * k) * per_row;
-            let y = top - row;
-            x_range = widen(x_range, x);
-            row_range = widen(row_range, row);
-            sum = widen(sum, af * x + bf * y);
-            difference = widen(difference, af * x - bf * y);
-        }
+        let projection = Projection::new(&rows, &columns)?;
+        let images = projection.images(points)?;
         let margin = |[lo, hi]: [f64; 2], heights: Heights, per: f64| {
             let (wide_lo, wide_hi) = (heights.lo * per, heights.hi * per);
             (lo - wide_lo).max(wide_hi - hi).max(0.0) + spread
         };
-        let m = af * margin(x_range, column_heights, per_column)
-            + bf * margin(row_range, row_heights, per_row);
-        let bounds = [sum[0] - m, sum[1] + m, difference[0] - m, difference[1] + m];
-        (m.is_finite() && bounds.iter().all(|v| v.is_finite())).then_some(([a, b], bounds))
+        let margins = [
+            margin(images.columns, column_heights, projection.per_column),
+            margin(images.rows, row_heights, projection.per_row),
+        ];
+        projection.cut(points, [a, b], margins)
     })();
     (screen, cut)
 }
@@ -395,29 +371,16 @@ impl Seen {
         resolution: f64,
     ) -> Option<Self> {
         let projection = Projection::new(rows, columns)?;
-        let e = projection.eye;
-        let mut column_range = [f64::INFINITY, f64::NEG_INFINITY];
-        let mut row_range = column_range;
-        // Each view's nearest point, `|d|_1` (as `View::outline_by` takes it).
-        let mut nearest = [f64::INFINITY; 2];
-        for p in points {
-            let [x, row] = projection.of(p)?;
-            column_range = widen(column_range, x);
-            row_range = widen(row_range, row);
-            let along = libm::fabs(p.z - e.z);
-            nearest = [
-                nearest[0].min(libm::fabs(p.x - e.x) + along),
-                nearest[1].min(libm::fabs(p.y - e.y) + along),
-            ];
-        }
+        let images = projection.images(points)?;
+        let [near_columns, near_rows] = images.nearest;
         let margins = [
-            projection.turned(column_range, nearest[0], angle, resolution, true)?,
-            projection.turned(row_range, nearest[1], angle, resolution, false)?,
+            projection.turned(images.columns, near_columns, angle, resolution, true)?,
+            projection.turned(images.rows, near_rows, angle, resolution, false)?,
         ];
         Some(Self {
             projection,
-            columns: column_range,
-            rows: row_range,
+            columns: images.columns,
+            rows: images.rows,
             margins,
         })
     }
@@ -441,23 +404,18 @@ impl Seen {
             rows: span(rows, self.rows, my),
             columns: span(columns, self.columns, mx),
         };
-        let cut = (|| {
-            let [a, b] = weights(&screen)?;
-            let (af, bf) = (f64::from(a), f64::from(b));
-            let mut sum = [f64::INFINITY, f64::NEG_INFINITY];
-            let mut difference = sum;
-            for p in points {
-                let [x, row] = self.projection.of(p)?;
-                let y = self.projection.top - row;
-                sum = widen(sum, af * x + bf * y);
-                difference = widen(difference, af * x - bf * y);
-            }
-            let m = af * mx + bf * my;
-            let bounds = [sum[0] - m, sum[1] + m, difference[0] - m, difference[1] + m];
-            (m.is_finite() && bounds.iter().all(|v| v.is_finite())).then_some(([a, b], bounds))
-        })();
+        let cut = weights(&screen).and_then(|ab| self.projection.cut(points, ab, [mx, my]));
         (screen, cut)
     }
+}
+
+/// The columns and rows (pixels, rows from the bottom) the images of some points span,
+/// and each view's (columns', rows') nearest point's `|d|_1` from the eye.
+#[cfg(feature = "animate")]
+struct Images {
+    columns: [f64; 2],
+    rows: [f64; 2],
+    nearest: [f64; 2],
 }
 
 /// `[lo, hi]` widened to hold `v`.
@@ -508,6 +466,48 @@ impl Projection {
         ])
     }
 
+    /// The columns and rows the images of `points` span, and each view's nearest point's
+    /// `|d|_1` from the eye (as [`View::outline_by`] takes it); `None` unless every point
+    /// lies clearly before the eye.
+    fn images(&self, points: &[Vec3<f64>]) -> Option<Images> {
+        let e = self.eye;
+        let mut columns = [f64::INFINITY, f64::NEG_INFINITY];
+        let mut rows = columns;
+        let mut nearest = [f64::INFINITY; 2];
+        for p in points {
+            let [x, row] = self.of(p)?;
+            columns = widen(columns, x);
+            rows = widen(rows, row);
+            let along = libm::fabs(p.z - e.z);
+            nearest = [
+                nearest[0].min(libm::fabs(p.x - e.x) + along),
+                nearest[1].min(libm::fabs(p.y - e.y) + along),
+            ];
+        }
+        Some(Images {
+            columns,
+            rows,
+            nearest,
+        })
+    }
+
+    /// The cut with weights `[a, b]` about the images of `points`, `margins` pixels (along
+    /// `x` and `y`) out from them: bounds on `a x + b y` and `a x - b y`, `y = 0` the top.
+    fn cut(&self, points: &[Vec3<f64>], [a, b]: [i32; 2], [mx, my]: [f64; 2]) -> Option<CutBounds> {
+        let (af, bf) = (f64::from(a), f64::from(b));
+        let mut sum = [f64::INFINITY, f64::NEG_INFINITY];
+        let mut difference = sum;
+        for p in points {
+            let [x, row] = self.of(p)?;
+            let y = self.top - row;
+            sum = widen(sum, af * x + bf * y);
+            difference = widen(difference, af * x - bf * y);
+        }
+        let m = af * mx + bf * my;
+        let bounds = [sum[0] - m, sum[1] + m, difference[0] - m, difference[1] + m];
+        (m.is_finite() && bounds.iter().all(|v| v.is_finite())).then_some(([a, b], bounds))
+    }
+
     /// How far, in pixels along `x` (`columns`) or up the rows, a ray's crossing of the
     /// screen within `range` (pixels) moves when its direction turns by what
     /// [`View::outline_by`] widens a hull's directions by (`nearest` its points' least
@@ -529,14 +529,13 @@ impl Projection {
             (self.per_row, self.eye.y)
         };
         let e = self.eye.z;
-        let blur = RESOLUTION_STEPS * resolution + angle * nearest;
-        let below = nearest * core::f64::consts::FRAC_1_SQRT_2;
-        if !(below > 2.0 * blur && e > 0.0 && per > 0.0) {
+        let blur_sin = blur_sine(nearest, resolution, angle)?;
+        if !(e > 0.0 && per > 0.0) {
             return None;
         }
         // The blur's angle (`asin x <= 1.05 x` for `x` below a half), then the turn by
         // `angle`, and a millionth more for the roundings here.
-        let a = (blur / below * 1.05 + angle) * (1.0 + 1e-6);
+        let a = (blur_sin * 1.05 + angle) * (1.0 + 1e-6);
         let u = libm::fabs(lo / per - foot).max(libm::fabs(hi / per - foot));
         let h = libm::sqrt(e * e + u * u) * (1.0 + 1e-6);
         let room = e - a * h;
@@ -619,6 +618,16 @@ fn length(a: [f64; 2]) -> f64 {
 /// `a` turned by the angle whose cosine and sine are given (anticlockwise for `sin > 0`).
 fn turn(a: [f64; 2], cos: f64, sin: f64) -> [f64; 2] {
     [a[0] * cos - a[1] * sin, a[0] * sin + a[1] * cos]
+}
+
+/// The sine of the angle by which a hull's directions are blurred, `nearest` its nearest
+/// corner's `|d|_1` from the eye (see [`View::outline_by`]): the blur,
+/// `steps + angle |d|_1`, over the bound `|d|_1 / sqrt 2` below the distance; `None`
+/// unless that is below a half.
+fn blur_sine(nearest: f64, resolution: f64, angle: f64) -> Option<f64> {
+    let below = nearest * core::f64::consts::FRAC_1_SQRT_2;
+    let blur = RESOLUTION_STEPS * resolution + angle * nearest;
+    (below > 2.0 * blur).then(|| blur / below)
 }
 
 /// The sine and cosine of an angle widened by [`ANGLE_MARGIN`].
@@ -769,14 +778,12 @@ impl View {
             before &= dy < 0.0;
             behind &= dy > 0.0;
         }
-        let below = nearest * core::f64::consts::FRAC_1_SQRT_2;
-        let blur = RESOLUTION_STEPS * resolution + angle * nearest;
-        if !(below > 2.0 * blur) {
+        let Some(blur_sin) = blur_sine(nearest, resolution, angle) else {
             return Heights::ALL;
-        }
+        };
         // Up by more than the few roundings by which a farther corner's quotient could
         // have come out above the nearest one's.
-        let blur_sin = blur / below * (1.0 + 1e-14);
+        let blur_sin = blur_sin * (1.0 + 1e-14);
         // Sweep out the extremes from the first corner; within less than half a turn each
         // corner is clockwise of `low`, anticlockwise of `high`, or between them.
         let (mut low, mut high) = (direction(first), direction(first));

@@ -84,6 +84,20 @@ impl<S: Scalar> Rect<S> {
         ]
     }
 
+    /// [`corner_and_sides`](Self::corner_and_sides) in the render plan's geometry type.
+    pub(crate) fn corner_and_sides_geo(&self) -> [Vec3<crate::scalar::geometry::Geo>; 3] {
+        use crate::scalar::geometry;
+        if !geometry::SINGLE {
+            // The same function where the geometry is `f64`: one copy in flash.
+            return self.corner_and_sides().map(geometry::narrow);
+        }
+        [
+            self.plane.point.to_geo(),
+            self.u.to_geo() * self.dimensions[0].to_geo(),
+            self.v.to_geo() * self.dimensions[1].to_geo(),
+        ]
+    }
+
     /// Checks a definition: a plane's checks, `xdir` not along the normal, positive size.
     pub(crate) fn build(def: &RectDef, scale: f64) -> Result<Self, ErrorKind> {
         let plane = Plane::build(

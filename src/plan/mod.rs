@@ -12,7 +12,7 @@
 //!   and an object can be hit only by the rows whose half-line meets its outline: a sphere's
 //!   disc, a rectangle's corners' hull, an infinite plane's half of the view (its horizon).
 //!
-//! Every bound is conservative: it is computed in `f64` from the number type's own values,
+//! Every bound is conservative: it is computed in `Geo` from the number type's own values,
 //! widened by an angle of 2e-3 radians and 64 steps of the type's resolution, then by one
 //! row on each side, so the rounding of the rays in `f32` or fixed point cannot reach an
 //! object its row's list left out. A planned render is pixel for pixel the render without a
@@ -24,6 +24,7 @@ use crate::light::Light;
 use crate::material::Material;
 use crate::object::{Object, Shape};
 use crate::scalar::Scalar;
+use crate::scalar::geometry::{self, Geo};
 use crate::vec3::Vec3;
 use heapless::Vec;
 
@@ -36,14 +37,14 @@ pub(crate) use shadows::{OnPlane, shadow_on_plane, widened_vertices};
 
 /// Angular widening of every bound, in radians: far above the direction error of any number
 /// type microray has (about 1e-5 for Q16.16).
-const ANGLE_MARGIN: f64 = 2e-3;
+const ANGLE_MARGIN: Geo = 2e-3;
 
 /// [`ANGLE_MARGIN`] for a moving picture's region (see [`crate::region`]): an eighth of
 /// it, where each margin adds a ring of pixels to trace about every change. With the eye
 /// 6 from the screen, as in the films, Q16.16's primary rays turn by about 3e-6 radians;
 /// nearer, [`region_angle`] adds the type's rounding.
 #[cfg(feature = "animate")]
-const TIGHT_ANGLE: f64 = ANGLE_MARGIN / 8.0;
+const TIGHT_ANGLE: Geo = ANGLE_MARGIN / 8.0;
 
 /// The angle a moving picture's region widens its hulls by, for `camera` in type `S`:
 /// [`TIGHT_ANGLE`], and eight times the turn that a step of rounding in a point of the
@@ -51,25 +52,47 @@ const TIGHT_ANGLE: f64 = ANGLE_MARGIN / 8.0;
 /// precision at the screen's reach in floating point), which grows as the eye nears the
 /// screen (one step of Q16.16 turns a ray 0.2 from the screen by 1e-4 radians).
 #[cfg(feature = "animate")]
-pub(crate) fn region_angle<S: Scalar>(camera: &Camera<S>) -> f64 {
-    let eye = camera.viewpoint().to_f64();
-    let [wx, wy] = camera.world().map(|w| libm::fabs(w.to_f64()));
+pub(crate) fn region_angle<S: Scalar>(camera: &Camera<S>) -> Geo {
+    let eye = camera.viewpoint().to_geo();
+    let [wx, wy] = camera.world().map(|w| geometry::abs(w.to_geo()));
     let step = if S::WIDE_RANGE {
-        S::UNIT_STEP * (wx + wy + libm::fabs(eye.x) + libm::fabs(eye.y) + libm::fabs(eye.z))
+        let reach = wx + wy + geometry::abs(eye.x) + geometry::abs(eye.y) + geometry::abs(eye.z);
+        geometry::from_f64(S::UNIT_STEP) * reach
     } else {
-        S::MIN_NORMAL
+        geometry::from_f64(S::MIN_NORMAL)
     };
-    let angle = TIGHT_ANGLE + 8.0 * step / libm::fabs(eye.z);
+    let angle = TIGHT_ANGLE + 8.0 * step / geometry::abs(eye.z);
     // The eye on the screen's plane, or nearly: every margin as wide as it gets.
     if angle < 1.0 { angle } else { 1.0 }
 }
 
+/// The step of the bounds' absolute margins (see [`RESOLUTION_STEPS`]) for `camera` in
+/// type `S`: the type's resolution, and where the geometry is `f32`, that type's rounding at
+/// the scene's reach (the eye's `|.|_1` and the screen's size: a point's position is off by
+/// its rounding; farther points' by a share of their distance, which the angles cover).
+pub(crate) fn resolution<S: Scalar>(camera: &Camera<S>) -> Geo {
+    let own = geometry::from_f64(S::MIN_NORMAL);
+    if !geometry::SINGLE {
+        return own;
+    }
+    let [wx, wy] = camera.world().map(|w| geometry::abs(w.to_geo()));
+    own + geometry::STEP * (wx + wy + norm_1(camera.viewpoint().to_geo()))
+}
+
+/// `|v|_1`.
+fn norm_1(v: Vec3<Geo>) -> Geo {
+    geometry::abs(v.x) + geometry::abs(v.y) + geometry::abs(v.z)
+}
+
 /// `cos` and `sin` of [`ANGLE_MARGIN`] (no trigonometry in the library).
-const COS_MARGIN: f64 = 0.999_998_000_000_666_6;
-const SIN_MARGIN: f64 = 0.001_999_998_666_666_933_3;
+const COS_MARGIN: Geo = geometry::from_f64(0.999_998_000_000_666_6);
+const SIN_MARGIN: Geo = geometry::from_f64(0.001_999_998_666_666_933_3);
+
+/// "A millionth more for the roundings": ten of `f32`'s steps where the geometry is `f32`.
+const MILLIONTH: Geo = geometry::allowance(1e-6, 1e-5);
 
 /// Widening in steps of the type's resolution (fixed point rounds every coordinate).
-const RESOLUTION_STEPS: f64 = 64.0;
+const RESOLUTION_STEPS: Geo = 64.0;
 
 /// Which stages of the shading run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -166,10 +189,11 @@ impl<const OBJECTS: usize> Plan<OBJECTS> {
         };
         let view = View::new(camera, false);
         let across = View::new(camera, true);
+        let resolution = resolution(camera);
         for (index, object) in objects.iter().enumerate() {
-            if !wholly_in_front(object, z_limit.to_f64(), S::MIN_NORMAL) {
-                let rows = view.rows_of(object, S::MIN_NORMAL);
-                plan.keep(index, rows, across.rows_of(object, S::MIN_NORMAL));
+            if !wholly_in_front(object, z_limit.to_geo(), resolution) {
+                let rows = view.rows_of(object, resolution);
+                plan.keep(index, rows, across.rows_of(object, resolution));
             }
         }
         let used = |test: &dyn Fn(&Material<S>) -> bool| {
@@ -265,9 +289,10 @@ impl<const OBJECTS: usize> Plan<OBJECTS> {
 /// The rows and columns whose primary rays can reach `object` (its spans in a plan).
 #[cfg(feature = "animate")]
 pub(crate) fn footprint<S: Scalar>(camera: &Camera<S>, object: &Object<S>) -> ScreenBox {
+    let resolution = resolution(camera);
     ScreenBox {
-        rows: View::new(camera, false).rows_of(object, S::MIN_NORMAL),
-        columns: View::new(camera, true).rows_of(object, S::MIN_NORMAL),
+        rows: View::new(camera, false).rows_of(object, resolution),
+        columns: View::new(camera, true).rows_of(object, resolution),
     }
 }
 
@@ -279,24 +304,24 @@ pub(crate) fn footprint<S: Scalar>(camera: &Camera<S>, object: &Object<S>) -> Sc
 pub(crate) fn outline_octagon<S: Scalar>(
     camera: &Camera<S>,
     object: &Object<S>,
-    octagon: &mut [Vec3<f64>; 8],
+    octagon: &mut [Vec3<Geo>; 8],
 ) -> bool {
     let (center, radius) = match object.shape() {
-        Shape::Sphere(s) => (s.center.to_f64(), s.radius.to_f64()),
-        Shape::RevSurf(s) if cfg!(feature = "revsurf") => (s.center.to_f64(), s.bound.to_f64()),
+        Shape::Sphere(s) => (s.center.to_geo(), s.radius.to_geo()),
+        Shape::RevSurf(s) if cfg!(feature = "revsurf") => (s.center.to_geo(), s.bound.to_geo()),
         _ => return false,
     };
-    let eye = camera.viewpoint().to_f64();
+    let eye = camera.viewpoint().to_geo();
     let d = center - eye;
-    let distance = libm::fabs(d.x) + libm::fabs(d.y) + libm::fabs(d.z);
+    let distance = geometry::abs(d.x) + geometry::abs(d.y) + geometry::abs(d.z);
     let angle = region_angle(camera);
-    let r = radius + angle * (distance + radius) + RESOLUTION_STEPS * S::MIN_NORMAL;
+    let r = radius + angle * (distance + radius) + RESOLUTION_STEPS * resolution(camera);
     shadows::cone_octagon(center, r, eye, octagon)
 }
 
 /// Weights `[a, b]` and bounds on `a x + b y` (low, high) and `a x - b y` (low, high).
 #[cfg(feature = "animate")]
-pub(crate) type CutBounds = ([i32; 2], [f64; 4]);
+pub(crate) type CutBounds = ([i32; 2], [Geo; 4]);
 
 /// The rows and columns whose primary rays can reach the hull of `points` (the whole
 /// screen where the hull holds the eye or spans half a turn), and, where every point lies
@@ -312,18 +337,18 @@ pub(crate) type CutBounds = ([i32; 2], [f64; 4]);
 #[cfg(feature = "animate")]
 pub(crate) fn outline_cut<S: Scalar>(
     camera: &Camera<S>,
-    points: &[Vec3<f64>],
-    spread: f64,
+    points: &[Vec3<Geo>],
+    spread: Geo,
     weights: impl Fn(&ScreenBox) -> Option<[i32; 2]>,
 ) -> (ScreenBox, Option<CutBounds>) {
     let (rows, columns) = (View::new(camera, false), View::new(camera, true));
-    let angle = region_angle(camera);
-    if let Some(seen) = Seen::of(&rows, &columns, points, angle, S::MIN_NORMAL) {
+    let (angle, resolution) = (region_angle(camera), resolution(camera));
+    if let Some(seen) = Seen::of(&rows, &columns, points, angle, resolution) {
         return seen.cut(&rows, &columns, points, spread, weights);
     }
     let (row_heights, column_heights) = (
-        rows.outline_by(points, S::MIN_NORMAL, angle, at_least(angle)),
-        columns.outline_by(points, S::MIN_NORMAL, angle, at_least(angle)),
+        rows.outline_by(points, resolution, angle, at_least(angle)),
+        columns.outline_by(points, resolution, angle, at_least(angle)),
     );
     let screen = ScreenBox {
         rows: rows.span_tight(row_heights, spread),
@@ -334,7 +359,7 @@ pub(crate) fn outline_cut<S: Scalar>(
         let [a, b] = weights(&screen)?;
         let projection = Projection::new(&rows, &columns)?;
         let images = projection.images(points)?;
-        let margin = |[lo, hi]: [f64; 2], heights: Heights, per: f64| {
+        let margin = |[lo, hi]: [Geo; 2], heights: Heights, per: Geo| {
             let (wide_lo, wide_hi) = (heights.lo * per, heights.hi * per);
             (lo - wide_lo).max(wide_hi - hi).max(0.0) + spread
         };
@@ -355,9 +380,9 @@ pub(crate) fn outline_cut<S: Scalar>(
 #[cfg(feature = "animate")]
 struct Seen {
     projection: Projection,
-    columns: [f64; 2],
-    rows: [f64; 2],
-    margins: [f64; 2],
+    columns: [Geo; 2],
+    rows: [Geo; 2],
+    margins: [Geo; 2],
 }
 
 #[cfg(feature = "animate")]
@@ -366,9 +391,9 @@ impl Seen {
     fn of(
         rows: &View,
         columns: &View,
-        points: &[Vec3<f64>],
-        angle: f64,
-        resolution: f64,
+        points: &[Vec3<Geo>],
+        angle: Geo,
+        resolution: Geo,
     ) -> Option<Self> {
         let projection = Projection::new(rows, columns)?;
         let images = projection.images(points)?;
@@ -392,13 +417,13 @@ impl Seen {
         &self,
         rows: &View,
         columns: &View,
-        points: &[Vec3<f64>],
-        spread: f64,
+        points: &[Vec3<Geo>],
+        spread: Geo,
         weights: impl Fn(&ScreenBox) -> Option<[i32; 2]>,
     ) -> (ScreenBox, Option<CutBounds>) {
         let [mx, my] = self.margins.map(|m| m + spread);
-        let span = |view: &View, [lo, hi]: [f64; 2], m: f64| {
-            view.rows_from(libm::ceil(lo - m), libm::floor(hi + m))
+        let span = |view: &View, [lo, hi]: [Geo; 2], m: Geo| {
+            view.rows_from(geometry::ceil(lo - m), geometry::floor(hi + m))
         };
         let screen = ScreenBox {
             rows: span(rows, self.rows, my),
@@ -413,14 +438,14 @@ impl Seen {
 /// and each view's (columns', rows') nearest point's `|d|_1` from the eye.
 #[cfg(feature = "animate")]
 struct Images {
-    columns: [f64; 2],
-    rows: [f64; 2],
-    nearest: [f64; 2],
+    columns: [Geo; 2],
+    rows: [Geo; 2],
+    nearest: [Geo; 2],
 }
 
 /// `[lo, hi]` widened to hold `v`.
 #[cfg(feature = "animate")]
-fn widen([lo, hi]: [f64; 2], v: f64) -> [f64; 2] {
+fn widen([lo, hi]: [Geo; 2], v: Geo) -> [Geo; 2] {
     [if v < lo { v } else { lo }, if v > hi { v } else { hi }]
 }
 
@@ -428,12 +453,12 @@ fn widen([lo, hi]: [f64; 2], v: f64) -> [f64; 2] {
 /// left, rows from the bottom, pixel `(x, y)`'s ray passing through its point exactly.
 #[cfg(feature = "animate")]
 struct Projection {
-    eye: Vec3<f64>,
+    eye: Vec3<Geo>,
     /// Pixels a world unit along `x` and `y` (one quotient a view: soft float's are slow).
-    per_column: f64,
-    per_row: f64,
+    per_column: Geo,
+    per_row: Geo,
     /// The top row.
-    top: f64,
+    top: Geo,
 }
 
 #[cfg(feature = "animate")]
@@ -447,16 +472,16 @@ impl Projection {
             eye: Vec3::new(ex, ey, ez),
             per_column: 1.0 / columns.row_height,
             per_row: 1.0 / rows.row_height,
-            top: f64::from(rows.height.saturating_sub(1)),
+            top: Geo::from(rows.height.saturating_sub(1)),
         })
     }
 
     /// `p`'s column and row (`0` the bottom); `None` unless `p` lies clearly before the
     /// eye.
-    fn of(&self, p: &Vec3<f64>) -> Option<[f64; 2]> {
+    fn of(&self, p: &Vec3<Geo>) -> Option<[Geo; 2]> {
         let e = self.eye;
         let ahead = e.z - p.z;
-        if !(ahead > 1e-9 * (libm::fabs(e.z) + libm::fabs(p.z))) {
+        if !(ahead > geometry::allowance(1e-9, 1e-3) * (geometry::abs(e.z) + geometry::abs(p.z))) {
             return None;
         }
         let k = e.z / ahead;
@@ -469,19 +494,19 @@ impl Projection {
     /// The columns and rows the images of `points` span, and each view's nearest point's
     /// `|d|_1` from the eye (as [`View::outline_by`] takes it); `None` unless every point
     /// lies clearly before the eye.
-    fn images(&self, points: &[Vec3<f64>]) -> Option<Images> {
+    fn images(&self, points: &[Vec3<Geo>]) -> Option<Images> {
         let e = self.eye;
-        let mut columns = [f64::INFINITY, f64::NEG_INFINITY];
+        let mut columns = [Geo::INFINITY, Geo::NEG_INFINITY];
         let mut rows = columns;
-        let mut nearest = [f64::INFINITY; 2];
+        let mut nearest = [Geo::INFINITY; 2];
         for p in points {
             let [x, row] = self.of(p)?;
             columns = widen(columns, x);
             rows = widen(rows, row);
-            let along = libm::fabs(p.z - e.z);
+            let along = geometry::abs(p.z - e.z);
             nearest = [
-                nearest[0].min(libm::fabs(p.x - e.x) + along),
-                nearest[1].min(libm::fabs(p.y - e.y) + along),
+                nearest[0].min(geometry::abs(p.x - e.x) + along),
+                nearest[1].min(geometry::abs(p.y - e.y) + along),
             ];
         }
         Some(Images {
@@ -493,9 +518,9 @@ impl Projection {
 
     /// The cut with weights `[a, b]` about the images of `points`, `margins` pixels (along
     /// `x` and `y`) out from them: bounds on `a x + b y` and `a x - b y`, `y = 0` the top.
-    fn cut(&self, points: &[Vec3<f64>], [a, b]: [i32; 2], [mx, my]: [f64; 2]) -> Option<CutBounds> {
-        let (af, bf) = (f64::from(a), f64::from(b));
-        let mut sum = [f64::INFINITY, f64::NEG_INFINITY];
+    fn cut(&self, points: &[Vec3<Geo>], [a, b]: [i32; 2], [mx, my]: [Geo; 2]) -> Option<CutBounds> {
+        let (af, bf) = (a as Geo, b as Geo);
+        let mut sum = [Geo::INFINITY, Geo::NEG_INFINITY];
         let mut difference = sum;
         for p in points {
             let [x, row] = self.of(p)?;
@@ -517,12 +542,12 @@ impl Projection {
     /// `None` where that is not small (the eye near the screen, or the turn large).
     fn turned(
         &self,
-        [lo, hi]: [f64; 2],
-        nearest: f64,
-        angle: f64,
-        resolution: f64,
+        [lo, hi]: [Geo; 2],
+        nearest: Geo,
+        angle: Geo,
+        resolution: Geo,
         columns: bool,
-    ) -> Option<f64> {
+    ) -> Option<Geo> {
         let (per, foot) = if columns {
             (self.per_column, self.eye.x)
         } else {
@@ -535,9 +560,9 @@ impl Projection {
         }
         // The blur's angle (`asin x <= 1.05 x` for `x` below a half), then the turn by
         // `angle`, and a millionth more for the roundings here.
-        let a = (blur_sin * 1.05 + angle) * (1.0 + 1e-6);
-        let u = libm::fabs(lo / per - foot).max(libm::fabs(hi / per - foot));
-        let h = libm::sqrt(e * e + u * u) * (1.0 + 1e-6);
+        let a = (blur_sin * 1.05 + angle) * (1.0 + MILLIONTH);
+        let u = geometry::abs(lo / per - foot).max(geometry::abs(hi / per - foot));
+        let h = geometry::sqrt(e * e + u * u) * (1.0 + MILLIONTH);
         let room = e - a * h;
         (room > 0.5 * e).then(|| a * h * h / room * per)
     }
@@ -567,19 +592,19 @@ pub(crate) fn materials_of<S: Scalar>(object: &Object<S>) -> [Option<u16>; 2] {
 
 /// Whether every point of the object has `z` clearly above the z limit, so the z rule
 /// discards every hit of every ray on it.
-fn wholly_in_front<S: Scalar>(object: &Object<S>, z_limit: f64, resolution: f64) -> bool {
-    let clear_of = |z: f64, size: f64| {
-        z > z_limit + ANGLE_MARGIN * (libm::fabs(z) + size) + RESOLUTION_STEPS * resolution
+fn wholly_in_front<S: Scalar>(object: &Object<S>, z_limit: Geo, resolution: Geo) -> bool {
+    let clear_of = |z: Geo, size: Geo| {
+        z > z_limit + ANGLE_MARGIN * (geometry::abs(z) + size) + RESOLUTION_STEPS * resolution
     };
     match object.shape() {
         Shape::Sphere(s) => {
-            let r = s.radius.to_f64();
-            clear_of(s.center.z.to_f64() - r, r)
+            let r = s.radius.to_geo();
+            clear_of(s.center.z.to_geo() - r, r)
         }
         // `cfg!`: without the feature there are none, and the sphere test keeps one caller.
         Shape::RevSurf(s) if cfg!(feature = "revsurf") => {
-            let r = s.bound.to_f64();
-            clear_of(s.center.z.to_f64() - r, r)
+            let r = s.bound.to_geo();
+            clear_of(s.center.z.to_geo() - r, r)
         }
         Shape::RevSurf(_) => false,
         Shape::FPlane(rect) => corners(rect).iter().all(|c| clear_of(c.z, 0.0)),
@@ -592,31 +617,31 @@ fn wholly_in_front<S: Scalar>(object: &Object<S>, z_limit: f64, resolution: f64)
 /// A plane facing along z (its normal has no x or y part) at a z clearly above the limit.
 fn plane_in_front<S: Scalar>(
     plane: &crate::object::Plane<S>,
-    clear_of: impl Fn(f64, f64) -> bool,
+    clear_of: impl Fn(Geo, Geo) -> bool,
 ) -> bool {
     let n = plane.unit_normal;
-    n.x == S::ZERO && n.y == S::ZERO && clear_of(plane.point.z.to_f64(), 0.0)
+    n.x == S::ZERO && n.y == S::ZERO && clear_of(plane.point.z.to_geo(), 0.0)
 }
 
-/// A rectangle's corners, in `f64`.
-fn corners<S: Scalar>(rect: &crate::object::Rect<S>) -> [Vec3<f64>; 4] {
-    let p = rect.plane.point.to_f64();
-    let across = rect.u.to_f64() * rect.dimensions[0].to_f64();
-    let up = rect.v.to_f64() * rect.dimensions[1].to_f64();
+/// A rectangle's corners, in `Geo`.
+fn corners<S: Scalar>(rect: &crate::object::Rect<S>) -> [Vec3<Geo>; 4] {
+    let p = rect.plane.point.to_geo();
+    let across = rect.u.to_geo() * rect.dimensions[0].to_geo();
+    let up = rect.v.to_geo() * rect.dimensions[1].to_geo();
     [p, p + across, p + across + up, p + up]
 }
 
 /// The 2-d cross product `a x b`: positive when `b` is anticlockwise of `a`.
-fn cross(a: [f64; 2], b: [f64; 2]) -> f64 {
+fn cross(a: [Geo; 2], b: [Geo; 2]) -> Geo {
     a[0] * b[1] - a[1] * b[0]
 }
 
-fn length(a: [f64; 2]) -> f64 {
-    crate::scalar::sqrt_f64_rough(a[0] * a[0] + a[1] * a[1])
+fn length(a: [Geo; 2]) -> Geo {
+    geometry::sqrt_rough(a[0] * a[0] + a[1] * a[1])
 }
 
 /// `a` turned by the angle whose cosine and sine are given (anticlockwise for `sin > 0`).
-fn turn(a: [f64; 2], cos: f64, sin: f64) -> [f64; 2] {
+fn turn(a: [Geo; 2], cos: Geo, sin: Geo) -> [Geo; 2] {
     [a[0] * cos - a[1] * sin, a[0] * sin + a[1] * cos]
 }
 
@@ -624,26 +649,26 @@ fn turn(a: [f64; 2], cos: f64, sin: f64) -> [f64; 2] {
 /// corner's `|d|_1` from the eye (see [`View::outline_by`]): the blur,
 /// `steps + angle |d|_1`, over the bound `|d|_1 / sqrt 2` below the distance; `None`
 /// unless that is below a half.
-fn blur_sine(nearest: f64, resolution: f64, angle: f64) -> Option<f64> {
-    let below = nearest * core::f64::consts::FRAC_1_SQRT_2;
+fn blur_sine(nearest: Geo, resolution: Geo, angle: Geo) -> Option<Geo> {
+    let below = nearest * geometry::FRAC_1_SQRT_2;
     let blur = RESOLUTION_STEPS * resolution + angle * nearest;
     (below > 2.0 * blur).then(|| blur / below)
 }
 
 /// The sine and cosine of an angle widened by [`ANGLE_MARGIN`].
-fn widened(sin: f64, cos: f64) -> (f64, f64) {
+fn widened(sin: Geo, cos: Geo) -> (Geo, Geo) {
     widened_by(sin, cos, (SIN_MARGIN, COS_MARGIN))
 }
 
 /// The sine and cosine of an angle widened by the one whose sine and cosine are given.
-fn widened_by(sin: f64, cos: f64, (by_sin, by_cos): (f64, f64)) -> (f64, f64) {
+fn widened_by(sin: Geo, cos: Geo, (by_sin, by_cos): (Geo, Geo)) -> (Geo, Geo) {
     (sin * by_cos + cos * by_sin, cos * by_cos - sin * by_sin)
 }
 
 /// The sine and cosine of an angle at least `angle` radians (small): `angle` and
 /// `1 - angle^2`, below its true cosine (so the angle is larger).
 #[cfg(feature = "animate")]
-fn at_least(angle: f64) -> (f64, f64) {
+fn at_least(angle: Geo) -> (Geo, Geo) {
     (angle, 1.0 - angle * angle)
 }
 
@@ -652,21 +677,21 @@ fn at_least(angle: f64) -> (f64, f64) {
 struct View {
     /// Columns: seen along y, coordinates `(x, z)`.
     columns: bool,
-    eye: [f64; 2],
+    eye: [Geo; 2],
     /// World units of the image plane per row.
-    row_height: f64,
+    row_height: Geo,
     height: u16,
 }
 
 /// A set of screen heights `lo <= sy <= hi` on the image plane (either end may be
 /// infinite).
-type Heights = Interval;
+type Heights = Interval<Geo>;
 
 impl View {
     /// The camera seen along x (its rows) or, with `columns`, along y (its columns: all
     /// rays of an image column lie in one plane through the eye that holds the y axis).
     fn new<S: Scalar>(camera: &Camera<S>, columns: bool) -> Self {
-        let eye = camera.viewpoint().to_f64();
+        let eye = camera.viewpoint().to_geo();
         let (eye, world, count) = if columns {
             ([eye.x, eye.z], camera.world()[0], camera.width())
         } else {
@@ -675,13 +700,13 @@ impl View {
         Self {
             columns,
             eye,
-            row_height: world.to_f64() / f64::from(count.saturating_sub(1).max(1)),
+            row_height: world.to_geo() / Geo::from(count.saturating_sub(1).max(1)),
             height: count,
         }
     }
 
     /// A point's coordinates as this view sees them, and the one it looks along.
-    fn seen(&self, v: Vec3<f64>) -> ([f64; 2], f64) {
+    fn seen(&self, v: Vec3<Geo>) -> ([Geo; 2], Geo) {
         if self.columns {
             ([v.x, v.z], v.y)
         } else {
@@ -690,11 +715,11 @@ impl View {
     }
 
     /// The rows whose primary rays can reach `object`.
-    fn rows_of<S: Scalar>(&self, object: &Object<S>, resolution: f64) -> RowSpan {
+    fn rows_of<S: Scalar>(&self, object: &Object<S>, resolution: Geo) -> RowSpan {
         let heights = match object.shape() {
-            Shape::Sphere(s) => self.sphere(s.center.to_f64(), s.radius.to_f64(), resolution),
+            Shape::Sphere(s) => self.sphere(s.center.to_geo(), s.radius.to_geo(), resolution),
             Shape::RevSurf(s) if cfg!(feature = "revsurf") => {
-                self.sphere(s.center.to_f64(), s.bound.to_f64(), resolution)
+                self.sphere(s.center.to_geo(), s.bound.to_geo(), resolution)
             }
             Shape::RevSurf(_) => Heights::ALL,
             Shape::FPlane(rect) => self.outline(&corners(rect), resolution),
@@ -708,7 +733,7 @@ impl View {
     /// The direction from the eye through screen height `sy` is `(sy - eye.y, -eye.z)`;
     /// it lies in the arc from direction `from` counter-clockwise to `to` (less than half a
     /// turn) when `from x d >= 0` and `d x to >= 0`, two conditions linear in `sy`.
-    fn arc(&self, from: [f64; 2], to: [f64; 2]) -> Heights {
+    fn arc(&self, from: [Geo; 2], to: [Geo; 2]) -> Heights {
         if !(cross(from, to) > 0.0) {
             // Half a turn or more (or nothing to go by): every row.
             return Heights::ALL;
@@ -720,7 +745,7 @@ impl View {
     }
 
     /// A sphere, seen along x, is a disc: the arc between the tangents from the eye.
-    fn sphere(&self, center: Vec3<f64>, radius: f64, resolution: f64) -> Heights {
+    fn sphere(&self, center: Vec3<Geo>, radius: Geo, resolution: Geo) -> Heights {
         let (center, _) = self.seen(center);
         let c = [center[0] - self.eye[0], center[1] - self.eye[1]];
         let distance = length(c);
@@ -730,7 +755,7 @@ impl View {
         }
         // The tangents are c turned by the half angle a, sin a = r / distance, then widened.
         let sin = r / distance;
-        let (sin, cos) = widened(sin, crate::scalar::sqrt_f64_rough(1.0 - sin * sin));
+        let (sin, cos) = widened(sin, geometry::sqrt_rough(1.0 - sin * sin));
         if !(cos > 0.0) {
             return Heights::ALL;
         }
@@ -739,7 +764,7 @@ impl View {
 
     /// A rectangle, seen along x, is the hull of its corners: the arc their directions span.
     /// Any set of points: the arc of its hull.
-    fn outline(&self, corners: &[Vec3<f64>], resolution: f64) -> Heights {
+    fn outline(&self, corners: &[Vec3<Geo>], resolution: Geo) -> Heights {
         self.outline_by(corners, resolution, ANGLE_MARGIN, (SIN_MARGIN, COS_MARGIN))
     }
 
@@ -748,12 +773,12 @@ impl View {
     /// plan's [`ANGLE_MARGIN`]; a region's own angle).
     fn outline_by(
         &self,
-        corners: &[Vec3<f64>],
-        resolution: f64,
-        angle: f64,
-        widening: (f64, f64),
+        corners: &[Vec3<Geo>],
+        resolution: Geo,
+        angle: Geo,
+        widening: (Geo, Geo),
     ) -> Heights {
-        let direction = |corner: &Vec3<f64>| {
+        let direction = |corner: &Vec3<Geo>| {
             let (corner, _) = self.seen(*corner);
             [corner[0] - self.eye[0], corner[1] - self.eye[1]]
         };
@@ -765,13 +790,13 @@ impl View {
         // over the bound below falls as `|d|_1` grows, and the blur is less than half the
         // bound below the more easily the larger `|d|_1`: the nearest corner decides both
         // (one quotient, where each corner took one).
-        let mut nearest = f64::INFINITY;
+        let mut nearest = Geo::INFINITY;
         // Whether every corner lies before the eye's plane, or every one behind it.
         let (mut before, mut behind) = (true, true);
         for corner in corners {
             let [dx, dy] = direction(corner);
-            let above = libm::fabs(dx) + libm::fabs(dy);
-            if !(above < f64::INFINITY) {
+            let above = geometry::abs(dx) + geometry::abs(dy);
+            if !(above < Geo::INFINITY) {
                 return Heights::ALL;
             }
             nearest = nearest.min(above);
@@ -783,7 +808,7 @@ impl View {
         };
         // Up by more than the few roundings by which a farther corner's quotient could
         // have come out above the nearest one's.
-        let blur_sin = blur_sin * (1.0 + 1e-14);
+        let blur_sin = blur_sin * (1.0 + geometry::allowance(1e-14, 1e-6));
         // Sweep out the extremes from the first corner; within less than half a turn each
         // corner is clockwise of `low`, anticlockwise of `high`, or between them.
         let (mut low, mut high) = (direction(first), direction(first));
@@ -808,7 +833,7 @@ impl View {
         }
         let (sin, cos) = widened_by(
             blur_sin,
-            crate::scalar::sqrt_f64_rough(1.0 - blur_sin * blur_sin),
+            geometry::sqrt_rough(1.0 - blur_sin * blur_sin),
             widening,
         );
         self.arc(turn(low, cos, -sin), turn(high, cos, sin))
@@ -817,19 +842,19 @@ impl View {
     /// An infinite plane: all of the view unless it runs along x; then the half of the view
     /// on its side of the horizon, widened by turning the normal both ways.
     fn plane<S: Scalar>(&self, plane: &crate::object::Plane<S>) -> Heights {
-        let ([ny, nz], along) = self.seen(plane.unit_normal.to_f64());
+        let ([ny, nz], along) = self.seen(plane.unit_normal.to_geo());
         if along != 0.0 {
             return Heights::ALL;
         }
         let [ey, ez] = self.eye;
-        let side = plane.n_dot_point.to_f64() - (ny * ey + nz * ez);
+        let side = plane.n_dot_point.to_geo() - (ny * ey + nz * ez);
         // The eye near the plane sees it in every row.
-        if !(libm::fabs(side) > ANGLE_MARGIN * (libm::fabs(ey) + libm::fabs(ez) + 1.0)) {
+        if !(geometry::abs(side) > ANGLE_MARGIN * (geometry::abs(ey) + geometry::abs(ez) + 1.0)) {
             return Heights::ALL;
         }
         // Hit when sign(side) (n . d) > 0, d = (sy - ey, -ez): linear in sy.
         let sign = if side > 0.0 { 1.0 } else { -1.0 };
-        let facing = |sin: f64| {
+        let facing = |sin: Geo| {
             let [ny, nz] = turn([ny, nz], COS_MARGIN, sin);
             Heights::ALL.where_nonnegative(sign * (-ny * ey - nz * ez), sign * ny)
         };
@@ -839,25 +864,25 @@ impl View {
     /// The rows whose screen height lies in `heights`, one more on each side.
     fn span(&self, heights: Heights) -> RowSpan {
         self.rows_from(
-            libm::floor(heights.lo / self.row_height) - 1.0,
-            libm::ceil(heights.hi / self.row_height) + 1.0,
+            geometry::floor(heights.lo / self.row_height) - 1.0,
+            geometry::ceil(heights.hi / self.row_height) + 1.0,
         )
     }
 
     /// The rows whose screen height lies within `spread` rows of `heights` (half a row:
     /// those whose anti-aliased samples can lie in it; none: those whose one ray can).
     #[cfg(feature = "animate")]
-    fn span_tight(&self, heights: Heights, spread: f64) -> RowSpan {
+    fn span_tight(&self, heights: Heights, spread: Geo) -> RowSpan {
         self.rows_from(
-            libm::ceil(heights.lo / self.row_height - spread),
-            libm::floor(heights.hi / self.row_height + spread),
+            geometry::ceil(heights.lo / self.row_height - spread),
+            geometry::floor(heights.hi / self.row_height + spread),
         )
     }
 
     /// Rows `lo` to `hi` (whole numbers) on the screen: all of them where either is not a
     /// number.
-    fn rows_from(&self, lo: f64, hi: f64) -> RowSpan {
-        let top = f64::from(self.height.saturating_sub(1));
+    fn rows_from(&self, lo: Geo, hi: Geo) -> RowSpan {
+        let top = Geo::from(self.height.saturating_sub(1));
         if lo.is_nan() || hi.is_nan() || !(self.row_height > 0.0) {
             return RowSpan::ALL;
         }
@@ -865,7 +890,7 @@ impl View {
             return RowSpan::NONE;
         }
         // Both clamped into 0..=top, which fits u16.
-        let to_row = |v: f64| v.clamp(0.0, top) as u16;
+        let to_row = |v: Geo| v.clamp(0.0, top) as u16;
         RowSpan {
             first: to_row(lo),
             last: to_row(hi),
@@ -905,8 +930,15 @@ mod tests {
 
     #[test]
     fn margin_constants_are_the_cosine_and_sine_of_the_margin() {
-        assert!((COS_MARGIN - libm::cos(ANGLE_MARGIN)).abs() < 1e-16);
-        assert!((SIN_MARGIN - libm::sin(ANGLE_MARGIN)).abs() < 1e-18);
+        // Within half a step of the geometry's type.
+        let (cos, sin) = if geometry::SINGLE {
+            (1e-7, 1e-9)
+        } else {
+            (1e-16, 1e-18)
+        };
+        let margin = geometry::to_f64(ANGLE_MARGIN);
+        assert!((geometry::to_f64(COS_MARGIN) - libm::cos(margin)).abs() < cos);
+        assert!((geometry::to_f64(SIN_MARGIN) - libm::sin(margin)).abs() < sin);
     }
 
     #[test]
@@ -1027,11 +1059,11 @@ mod tests {
             // (1e-4 from 0.2 away); f32's its precision at the screen's reach over it.
             let (fixed_angle, f32_angle) = (angle(camera, true), angle(camera, false));
             assert!(
-                fixed_turn < fixed_angle / 4.0,
+                fixed_turn < geometry::to_f64(fixed_angle) / 4.0,
                 "{camera:?}: Q16.16 turns by {fixed_turn:e}"
             );
             assert!(
-                f32_turn < f32_angle / 4.0,
+                f32_turn < geometry::to_f64(f32_angle) / 4.0,
                 "{camera:?}: f32 turns by {f32_turn:e}"
             );
         }

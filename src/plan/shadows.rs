@@ -23,11 +23,12 @@
 //! error, and a light nearly as far from a receiver as the object is, get the whole screen.
 //! `tests/plan.rs` renders random rooms with balls and panels both ways.
 
-use super::{ANGLE_MARGIN, RowSpan, View};
+use super::{ANGLE_MARGIN, MILLIONTH, RowSpan, View};
 use crate::camera::Camera;
 use crate::light::Light;
 use crate::object::{Object, Shape};
 use crate::scalar::Scalar;
+use crate::scalar::geometry::{self, Geo};
 use crate::vec3::Vec3;
 use heapless::Vec;
 
@@ -35,15 +36,15 @@ use heapless::Vec;
 pub const OCCLUDERS: usize = 4;
 
 /// Widening in steps of the type's resolution.
-const SHADOW_STEPS: f64 = 256.0;
+const SHADOW_STEPS: Geo = 256.0;
 
 /// A panel's plane must lie at least this far from the light, relative to the light's
 /// distance from its corners.
-const GRAZING: f64 = 1.0 / 64.0;
+const GRAZING: Geo = 1.0 / 64.0;
 
 /// How much nearer a receiver than the light every vertex must be, relative to the light's
 /// distance from it.
-const NEARER: f64 = 1.0 / 1024.0;
+const NEARER: Geo = 1.0 / 1024.0;
 
 /// A box of image rows (`y = 0` the bottom) and columns (`x = 0` the left).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -103,7 +104,7 @@ impl ShadowBoxes {
 
     /// The boxes for a scene's lights and kept objects; `None` where there are none (no
     /// object that depends on `x`, one that is not bounded, or no shadow that is). Out of
-    /// line: its `f64` arrays stay out of the caller's frame (RAM on a Cortex-M0).
+    /// line: its `Geo` arrays stay out of the caller's frame (RAM on a Cortex-M0).
     #[inline(never)]
     pub fn new<S: Scalar>(
         camera: &Camera<S>,
@@ -133,18 +134,19 @@ impl ShadowBoxes {
         }
         let rows = View::new(camera, false);
         let columns = View::new(camera, true);
+        let resolution = super::resolution(camera);
         let mut entries = Vec::new();
         // One array of points for every call below, filled in place: returned by value
         // through the calls, its copies were the frame's largest part (RAM on a Cortex-M0).
         let mut points = [Vec3::ZERO; 8];
         // One occluder's shadow is bounded or not as its points are projected: no pass to
-        // check it first (soft float's `f64`).
+        // check it first (soft float's `Geo`).
         let single = occluders.len() == 1;
         for (number, light) in lights.iter().enumerate() {
             let number = u8::try_from(number).ok()?;
             'receivers: for &receiver in &receivers {
                 // One shadow that is not bounded, and every pixel tests the light: the
-                // others are not worth their outlines (soft float's `f64`).
+                // others are not worth their outlines (soft float's `Geo`).
                 let bounded = single
                     || occluders.iter().all(|&index| {
                         objects.get(usize::from(index)).is_some_and(|object| {
@@ -153,7 +155,7 @@ impl ShadowBoxes {
                                 object,
                                 receiver.into(),
                                 objects,
-                                false,
+                                (false, resolution),
                                 &mut points,
                             )
                             .is_some()
@@ -164,16 +166,22 @@ impl ShadowBoxes {
                 }
                 for &index in &occluders {
                     let object = objects.get(usize::from(index))?;
-                    let projected =
-                        shadow_points(light, object, receiver.into(), objects, true, &mut points);
+                    let projected = shadow_points(
+                        light,
+                        object,
+                        receiver.into(),
+                        objects,
+                        (true, resolution),
+                        &mut points,
+                    );
                     match projected {
                         Some(()) => {}
                         None if single => continue 'receivers,
                         None => return None,
                     }
                     let mut screen = ScreenBox {
-                        rows: rows.span(rows.outline(&points, S::MIN_NORMAL)),
-                        columns: columns.span(columns.outline(&points, S::MIN_NORMAL)),
+                        rows: rows.span(rows.outline(&points, resolution)),
+                        columns: columns.span(columns.outline(&points, resolution)),
                     };
                     // Every column: no row is cut for it.
                     if screen.columns.first == 0
@@ -239,23 +247,24 @@ impl ShadowBoxes {
 
 /// Into `points`, the projections from `light` onto the plane of `receiver` of the
 /// vertices of a polytope holding `object`, widened (computed only when `project`); `None`
-/// where the shadow is not bounded that way (see the module's docs).
+/// where the shadow is not bounded that way (see the module's docs); `resolution` as
+/// [`super::resolution`] gives it.
 fn shadow_points<S: Scalar>(
     light: &Light<S>,
     object: &Object<S>,
     receiver: u16,
     objects: &[Object<S>],
-    project: bool,
-    points: &mut [Vec3<f64>; 8],
+    (project, resolution): (bool, Geo),
+    points: &mut [Vec3<Geo>; 8],
 ) -> Option<()> {
-    let l = light.location.to_f64();
-    widened_vertices(object, l, S::MIN_NORMAL, ANGLE_MARGIN, false, points)?;
+    let l = light.location.to_geo();
+    widened_vertices(object, l, resolution, ANGLE_MARGIN, false, points)?;
     let plane = objects.get(usize::from(receiver))?.infinite_plane()?;
-    let n = plane.unit_normal.to_f64();
-    let offset = plane.n_dot_point.to_f64();
+    let n = plane.unit_normal.to_geo();
+    let offset = plane.n_dot_point.to_geo();
     let above = n.dot(l) - offset;
     let side = if above > 0.0 { 1.0 } else { -1.0 };
-    let height = libm::fabs(above);
+    let height = geometry::abs(above);
     for v in points.iter_mut() {
         let d = side * (n.dot(*v) - offset);
         if !(d < height * (1.0 - NEARER)) {
@@ -285,16 +294,16 @@ pub(crate) enum OnPlane {
 /// shadow is bounded that way (see [`OnPlane`]).
 #[cfg(feature = "animate")]
 pub(crate) fn shadow_on_plane<S: Scalar>(
-    l: Vec3<f64>,
-    vertices: &[Vec3<f64>; 8],
+    l: Vec3<Geo>,
+    vertices: &[Vec3<Geo>; 8],
     plane: &crate::object::Plane<S>,
-    projected: &mut [Vec3<f64>; 8],
+    projected: &mut [Vec3<Geo>; 8],
 ) -> OnPlane {
-    let n = plane.unit_normal.to_f64();
-    let offset = plane.n_dot_point.to_f64();
+    let n = plane.unit_normal.to_geo();
+    let offset = plane.n_dot_point.to_geo();
     let above = n.dot(l) - offset;
     let side = if above > 0.0 { 1.0 } else { -1.0 };
-    let height = libm::fabs(above);
+    let height = geometry::abs(above);
     if !(height > 0.0) {
         return OnPlane::Anywhere;
     }
@@ -335,22 +344,22 @@ fn bounded<S: Scalar>(object: &Object<S>) -> bool {
 /// `Some(true)` for the octagon (a flat polygon: the shadow is the pyramid beyond it).
 pub(crate) fn widened_vertices<S: Scalar>(
     object: &Object<S>,
-    l: Vec3<f64>,
-    resolution: f64,
-    angle: f64,
+    l: Vec3<Geo>,
+    resolution: Geo,
+    angle: Geo,
     facing_the_light: bool,
-    vertices: &mut [Vec3<f64>; 8],
+    vertices: &mut [Vec3<Geo>; 8],
 ) -> Option<bool> {
-    let margin = |points: &[Vec3<f64>]| {
+    let margin = |points: &[Vec3<Geo>]| {
         let reach = points
             .iter()
             .map(|&p| norm_1(p - l) + norm_1(p))
-            .fold(0.0, f64::max);
+            .fold(0.0, Geo::max);
         SHADOW_STEPS * resolution + angle * reach
     };
     let (center, radius) = match object.shape() {
-        Shape::Sphere(s) => (s.center.to_f64(), s.radius.to_f64()),
-        Shape::RevSurf(s) if cfg!(feature = "revsurf") => (s.center.to_f64(), s.bound.to_f64()),
+        Shape::Sphere(s) => (s.center.to_geo(), s.radius.to_geo()),
+        Shape::RevSurf(s) if cfg!(feature = "revsurf") => (s.center.to_geo(), s.bound.to_geo()),
         Shape::FPlane(rect) => return slab(rect, l, &margin, vertices).map(|()| false),
         Shape::TexPlane(textured) => {
             return slab(&textured.rect, l, &margin, vertices).map(|()| false);
@@ -363,7 +372,7 @@ pub(crate) fn widened_vertices<S: Scalar>(
     // With `facing_the_light`, the octagon about the cone of shadow rays that meet the
     // ball, where the cone begins (see `cone_octagon`): its shadow is the ball's within 6 %
     // of its area, where a cube's is up to 1.6 times it (the plan's boxes keep the axis
-    // cube: no square roots in soft float's `f64` on every render).
+    // cube: no square roots in soft float's `Geo` on every render).
     if cfg!(feature = "animate") && facing_the_light && cone_octagon(center, r, l, vertices) {
         return Some(true);
     }
@@ -382,26 +391,26 @@ pub(crate) fn widened_vertices<S: Scalar>(
 /// `V` in the octagon (set a millionth nearer and wider than the rounded values). `false`
 /// (nothing written) where `l` is within a thousandth of the ball's radius of it.
 pub(crate) fn cone_octagon(
-    center: Vec3<f64>,
-    r: f64,
-    l: Vec3<f64>,
-    vertices: &mut [Vec3<f64>; 8],
+    center: Vec3<Geo>,
+    r: Geo,
+    l: Vec3<Geo>,
+    vertices: &mut [Vec3<Geo>; 8],
 ) -> bool {
     /// `cos 22.5°` and `sin 22.5°`.
-    const C: f64 = 0.923_879_532_511_286_7;
-    const S: f64 = 0.382_683_432_365_089_8;
+    const C: Geo = geometry::from_f64(0.923_879_532_511_286_7);
+    const S: Geo = geometry::from_f64(0.382_683_432_365_089_8);
     let to = center - l;
-    let distance = libm::sqrt(to.dot(to));
+    let distance = geometry::sqrt(to.dot(to));
     let [a, u, w] = facing(to);
     // `facing` gives the axes where its roots fail: then `a` may not point at the ball.
-    let pointed = a.dot(to) >= distance * (1.0 - 1e-9);
+    let pointed = a.dot(to) >= distance * (1.0 - geometry::allowance(1e-9, 1e-5));
     if !(distance > r * 1.001 && pointed && distance.is_finite()) {
         return false;
     }
-    let tan = r / libm::sqrt(distance * distance - r * r);
-    let near = (distance - r) * (1.0 - 1e-6);
+    let tan = r / geometry::sqrt(distance * distance - r * r);
+    let near = (distance - r) * (1.0 - MILLIONTH);
     // The octagon's corners are `1 / cos 22.5°` out from its inscribed circle.
-    let corner = near * tan * (1.0 + 1e-6) / C;
+    let corner = near * tan * (1.0 + MILLIONTH) / C;
     let middle = l + a * near;
     let (c, s) = (corner * C, corner * S);
     let around = [
@@ -422,14 +431,14 @@ pub(crate) fn cone_octagon(
 
 /// Three orthogonal unit vectors, the first along `d` (the axes when `d` is zero or the
 /// roots fail: a cube along them holds the ball as well).
-fn facing(d: Vec3<f64>) -> [Vec3<f64>; 3] {
+fn facing(d: Vec3<Geo>) -> [Vec3<Geo>; 3] {
     let axes = [
         Vec3::new(1.0, 0.0, 0.0),
         Vec3::new(0.0, 1.0, 0.0),
         Vec3::new(0.0, 0.0, 1.0),
     ];
-    let unit = |v: Vec3<f64>| {
-        let length = libm::sqrt(v.dot(v));
+    let unit = |v: Vec3<Geo>| {
+        let length = geometry::sqrt(v.dot(v));
         (length > 0.0 && length.is_finite()).then(|| v * (1.0 / length))
     };
     let Some(a) = unit(d) else {
@@ -437,7 +446,7 @@ fn facing(d: Vec3<f64>) -> [Vec3<f64>; 3] {
     };
     // The axis least along `a` gives the second direction.
     let [ex, ey, ez] = axes;
-    let (x, y, z) = (libm::fabs(a.x), libm::fabs(a.y), libm::fabs(a.z));
+    let (x, y, z) = (geometry::abs(a.x), geometry::abs(a.y), geometry::abs(a.z));
     let least = if x <= y && x <= z {
         ex
     } else if y <= z {
@@ -452,26 +461,26 @@ fn facing(d: Vec3<f64>) -> [Vec3<f64>; 3] {
 }
 
 /// `|v|_1`, at least `|v|` (without a square root: soft float's are slow).
-fn norm_1(v: Vec3<f64>) -> f64 {
-    libm::fabs(v.x) + libm::fabs(v.y) + libm::fabs(v.z)
+fn norm_1(v: Vec3<Geo>) -> Geo {
+    geometry::abs(v.x) + geometry::abs(v.y) + geometry::abs(v.z)
 }
 
 /// Into `vertices`, a panel's corners moved out along its sides and off its plane both
 /// ways by the margin.
 fn slab<S: Scalar>(
     rect: &crate::object::Rect<S>,
-    l: Vec3<f64>,
-    margin: &dyn Fn(&[Vec3<f64>]) -> f64,
-    vertices: &mut [Vec3<f64>; 8],
+    l: Vec3<Geo>,
+    margin: &dyn Fn(&[Vec3<Geo>]) -> Geo,
+    vertices: &mut [Vec3<Geo>; 8],
 ) -> Option<()> {
-    let [p, across, up] = rect.corner_and_sides();
+    let [p, across, up] = rect.corner_and_sides_geo();
     let corners = [p, p + across, p + across + up, p + up];
-    let n = rect.plane.unit_normal.to_f64();
+    let n = rect.plane.unit_normal.to_geo();
     let farthest = corners
         .iter()
         .map(|&c| rough_length(c - l))
-        .fold(0.0, f64::max);
-    if !(libm::fabs(n.dot(l - p)) >= GRAZING * farthest) {
+        .fold(0.0, Geo::max);
+    if !(geometry::abs(n.dot(l - p)) >= GRAZING * farthest) {
         return None;
     }
     let m = margin(&corners);
@@ -493,13 +502,13 @@ fn slab<S: Scalar>(
 
 /// `|v|` within `2^-23` (see [`sqrt_f64_rough`](crate::scalar::sqrt_f64_rough)): a
 /// panel's distances and sides only place margins of `2e-3` and more, and the exact root
-/// in software `f64` was 5 of fplane3's instructions a pixel on the Cortex-M4F.
-fn rough_length(v: Vec3<f64>) -> f64 {
-    crate::scalar::sqrt_f64_rough(v.dot(v))
+/// in software `Geo` was 5 of fplane3's instructions a pixel on the Cortex-M4F.
+fn rough_length(v: Vec3<Geo>) -> Geo {
+    geometry::sqrt_rough(v.dot(v))
 }
 
 /// `m` along `v`'s direction (zero for a zero or unbounded `v`).
-fn along(v: Vec3<f64>, m: f64) -> Vec3<f64> {
+fn along(v: Vec3<Geo>, m: Geo) -> Vec3<Geo> {
     let length = rough_length(v);
     if length > 0.0 && length.is_finite() {
         v * (m / length)
@@ -512,6 +521,17 @@ fn along(v: Vec3<f64>, m: f64) -> Vec3<f64> {
 mod tests {
     use super::*;
     use proptest::prelude::*;
+
+    /// A unit vector across `a`.
+    fn across(a: Vec3<f64>) -> Vec3<f64> {
+        let axis = if libm::fabs(a.x) < 0.5 {
+            Vec3::new(1.0, 0.0, 0.0)
+        } else {
+            Vec3::new(0.0, 1.0, 0.0)
+        };
+        let u = a.cross(axis);
+        u * (1.0 / u.length())
+    }
 
     fn point() -> impl Strategy<Value = Vec3<f64>> {
         (-50.0..50.0f64, -50.0..50.0f64, -50.0..50.0f64).prop_map(|(x, y, z)| Vec3::new(x, y, z))
@@ -548,14 +568,23 @@ mod tests {
             on_ball in (0.0..1.0f64, 0.0..1.0f64, 0.0..1.0f64),
             s in prop_oneof![Just(1.0f64), 1.0..100.0f64],
         ) {
-            let mut vertices = [Vec3::ZERO; 8];
-            prop_assume!(cone_octagon(center, r, l, &mut vertices));
+            let mut octagon = [Vec3::ZERO; 8];
+            let (c, light) = (geometry::narrow(center), geometry::narrow(l));
+            prop_assume!(cone_octagon(c, geometry::from_f64(r), light, &mut octagon));
+            let vertices = octagon.map(geometry::widen);
+            // The ball shrunk by `f32`'s rounding where the geometry is `f32` (every caller
+            // widens it by at least 2.5e-4 of that reach).
+            let full = r;
+            let r = r - if geometry::SINGLE { 2e-5 * (center.length() + l.length() + r) } else { 0.0 };
+            prop_assume!(r > 0.0);
             // A point of the ball seen beyond: on the circle where the cone touches it (the
             // shadow's edge), or at its nearest point (where the cone begins), or within.
             let (theta, pick, depth) = on_ball;
             let to = center - l;
             let d = to.length();
-            let [a, u, w] = facing(to);
+            let a = to * (1.0 / d);
+            let u = across(a);
+            let w = a.cross(u);
             let phi = theta * core::f64::consts::TAU;
             let around = u * libm::cos(phi) + w * libm::sin(phi);
             let touch = l + a * (d - r * r / d) + around * (r * libm::sqrt(d * d - r * r) / d);
@@ -570,7 +599,7 @@ mod tests {
             prop_assert!(in_pyramid(l, &vertices, p), "{p:?} outside");
             let middle = vertices.iter().fold(Vec3::ZERO, |s, &v| s + v) * 0.125;
             let (d, near) = ((center - l).length(), (middle - l).length());
-            let section = near * r / libm::sqrt(d * d - r * r);
+            let section = near * full / libm::sqrt(d * d - full * full);
             let corner = (vertices[0] - middle).length();
             prop_assert!(corner <= section * 1.09, "{corner} for a section of {section}");
         }

@@ -499,6 +499,11 @@ impl Scalar for I16F16 {
     fn to_f64(self) -> f64 {
         f64::from(self.to_bits()) / 65536.0
     }
+    /// One rounding of the bits (no conversion through `f64`, software on a Cortex-M0).
+    #[inline]
+    fn to_geo(self) -> crate::scalar::geometry::Geo {
+        self.to_bits() as crate::scalar::geometry::Geo / 65536.0
+    }
     #[inline]
     fn sqrt(self) -> Self {
         let bits = self.to_bits();

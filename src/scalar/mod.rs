@@ -20,6 +20,7 @@
 
 mod ball;
 pub mod fixed;
+pub mod geometry;
 pub mod vec3;
 mod wide;
 
@@ -184,6 +185,12 @@ pub trait Scalar:
     fn from_f64(value: f64) -> Self;
     /// The value as an `f64` (exact for every type microray has).
     fn to_f64(self) -> f64;
+    /// The value in the type the render plan's and a region's geometry is worked out in
+    /// (`f64`, or `f32` with the `geometry-f32` feature: one rounding).
+    #[inline]
+    fn to_geo(self) -> geometry::Geo {
+        self.to_f64() as geometry::Geo
+    }
     /// The square root; the root of a negative number is defined as zero.
     fn sqrt(self) -> Self;
     /// `self` to the power `exponent`, for glints; defined as 0 when `self <= 0` (where the
@@ -357,6 +364,7 @@ pub(crate) fn sqrt_f64(x: f64) -> f64 {
 /// [`sqrt_by_digits`] cost many_spheres 1 % of its instructions on the Cortex-M4F. Built
 /// for size, `sqrt_by_digits` still (on the Cortex-M0 `sqrt_by_halves` brings in `f32`'s
 /// software root and conversions: 2 KB).
+#[cfg_attr(feature = "geometry-f32", allow(dead_code))]
 #[inline]
 pub(crate) fn sqrt_f64_rough(x: f64) -> f64 {
     if HARD_DOUBLE {
@@ -372,6 +380,7 @@ pub(crate) fn sqrt_f64_rough(x: f64) -> f64 {
 /// `f32` (the float unit's, where there is one): two roundings of `2^-24`, so within
 /// `2^-23` of the root; exact for zeros, infinities, NaN and negatives (as
 /// [`sqrt_by_digits`], which also takes the rare subnormals).
+#[cfg_attr(feature = "geometry-f32", allow(dead_code))]
 #[inline(never)]
 pub(crate) fn sqrt_by_halves(x: f64) -> f64 {
     let bits = x.to_bits();
@@ -768,6 +777,11 @@ impl Scalar for f32 {
     #[inline]
     fn to_f64(self) -> f64 {
         f64::from(self)
+    }
+    /// No conversion through `f64` (software on a Cortex-M4F) where the geometry is `f32`.
+    #[inline]
+    fn to_geo(self) -> geometry::Geo {
+        geometry::Geo::from(self)
     }
     #[inline]
     fn sqrt(self) -> Self {

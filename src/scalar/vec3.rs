@@ -57,6 +57,21 @@ impl<S: Scalar> Vec3<S> {
         Vec3::new(self.x.to_f64(), self.y.to_f64(), self.z.to_f64())
     }
 
+    /// The components in the geometry's type ([`crate::scalar::geometry::Geo`]).
+    #[cfg(feature = "geometry-f32")]
+    #[inline]
+    pub fn to_geo(self) -> Vec3<crate::scalar::geometry::Geo> {
+        Vec3::new(self.x.to_geo(), self.y.to_geo(), self.z.to_geo())
+    }
+
+    /// The components in the geometry's type ([`crate::scalar::geometry::Geo`]): `f64`,
+    /// [`to_f64`](Self::to_f64) itself (one copy in flash).
+    #[cfg(not(feature = "geometry-f32"))]
+    #[inline(always)]
+    pub fn to_geo(self) -> Vec3<f64> {
+        self.to_f64()
+    }
+
     /// The dot product (see [`Scalar::dot`]).
     #[inline]
     pub fn dot(self, other: Self) -> S {

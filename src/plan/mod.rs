@@ -33,7 +33,9 @@ mod shadows;
 pub(crate) use shadows::cone_octagon;
 pub use shadows::{BOXES, OCCLUDERS, ScreenBox, ShadowBoxes};
 #[cfg(feature = "animate")]
-pub(crate) use shadows::{OnPlane, shadow_on_plane, widened_vertices};
+pub(crate) use shadows::{
+    OnPlane, UMBRA_CORNERS, certain_umbra, shadow_on_plane, widened_vertices,
+};
 
 /// Angular widening of every bound, in radians: far above the direction error of any number
 /// type microray has (about 1e-5 for Q16.16).
@@ -566,6 +568,157 @@ impl Projection {
         let room = e - a * h;
         (room > 0.5 * e).then(|| a * h * h / room * per)
     }
+}
+
+/// Weights `[a, b]` and bounds on the pixels `(x, y)` (`y = 0` the top) of an octagon:
+/// `x` low and high, `y` low and high, `a x + b y` low and high, `a x - b y` low and high.
+#[cfg(feature = "animate")]
+pub(crate) type OctagonBounds = ([i32; 2], [Geo; 8]);
+
+/// An octagon of pixels whose primary rays, as any number type traces them, all meet the
+/// convex polygon `corners` (in order, every one before the eye) on its plane, and so do
+/// the samples of an anti-aliased pixel where `spread` is half a pixel: one inscribed in
+/// its image (the octagon about the image, shrunk towards the corners' mean until each of
+/// its corners lies within the image), then moved in by a ray's error (as [`outline_cut`]
+/// moves out) and `spread`. `[a, b]` from `weights` of the image's width and height in
+/// pixels. `None` when there is none.
+#[cfg(feature = "animate")]
+pub(crate) fn inscribed_cut<S: Scalar>(
+    camera: &Camera<S>,
+    corners: &[Vec3<Geo>; UMBRA_CORNERS],
+    spread: Geo,
+    weights: impl Fn(u16, u16) -> [i32; 2],
+) -> Option<OctagonBounds> {
+    let (rows, columns) = (View::new(camera, false), View::new(camera, true));
+    let projection = Projection::new(&rows, &columns)?;
+    let images = projection.images(corners)?;
+    let mut image = [[0.0; 2]; UMBRA_CORNERS];
+    let mut mean = [0.0; 2];
+    for (to, p) in image.iter_mut().zip(corners) {
+        let [x, row] = projection.of(p)?;
+        *to = [x, projection.top - row];
+        mean = [mean[0] + to[0], mean[1] + to[1]];
+    }
+    let (x_range, row_range) = (images.columns, images.rows);
+    let y_range = [projection.top - row_range[1], projection.top - row_range[0]];
+    let n = UMBRA_CORNERS as Geo;
+    let c = [mean[0] / n, mean[1] / n];
+    let side = |[lo, hi]: [Geo; 2]| (hi - lo).clamp(1.0, 2047.0) as u16;
+    let [a, b] = weights(side(x_range), side(y_range));
+    let (af, bf) = (a as Geo, b as Geo);
+    if !(af > 0.0 && bf > 0.0) {
+        return None;
+    }
+    let mut sum = [Geo::INFINITY, Geo::NEG_INFINITY];
+    let mut difference = sum;
+    for &[x, y] in &image {
+        sum = widen(sum, af * x + bf * y);
+        difference = widen(difference, af * x - bf * y);
+    }
+    let ([x0, x1], [y0, y1], [s0, s1], [d0, d1]) = (x_range, y_range, sum, difference);
+    // The octagon's corners, in order round it.
+    let octagon = [
+        [x1, y1.min((s1 - af * x1) / bf)],
+        [x1.min((s1 - bf * y1) / af), y1],
+        [x0.max((d0 + bf * y1) / af), y1],
+        [x0, y1.min((af * x0 - d0) / bf)],
+        [x0, y0.max((s0 - af * x0) / bf)],
+        [x0.max((s0 - bf * y0) / af), y0],
+        [x1.min((d1 + bf * y0) / af), y0],
+        [x1, y0.max((af * x1 - d1) / bf)],
+    ];
+    // The image's rightmost corner, where the octagon's first corner points.
+    let rightmost = (0..UMBRA_CORNERS)
+        .zip(&image)
+        .fold((0, Geo::NEG_INFINITY), |(i, x), (j, p)| {
+            if p[0] > x { (j, p[0]) } else { (i, x) }
+        })
+        .0;
+    let f = inscribed_share(&image, c, &octagon, rightmost)?;
+    // A ray's error, as the outlines widen directions, and the spread of a pixel's samples.
+    let (angle, resolution) = (region_angle(camera), resolution(camera));
+    let [near_columns, near_rows] = images.nearest;
+    let [mx, my] = [
+        projection.turned(x_range, near_columns, angle, resolution, true)?,
+        projection.turned(row_range, near_rows, angle, resolution, false)?,
+    ]
+    .map(|m| m + spread);
+    let m = af * mx + bf * my;
+    let shrink = |lo: Geo, hi: Geo, at: Geo, margin: Geo| {
+        [at + (lo - at) * f + margin, at + (hi - at) * f - margin]
+    };
+    let ([x0, x1], [y0, y1]) = (shrink(x0, x1, c[0], mx), shrink(y0, y1, c[1], my));
+    let ([s0, s1], [d0, d1]) = (
+        shrink(s0, s1, af * c[0] + bf * c[1], m),
+        shrink(d0, d1, af * c[0] - bf * c[1], m),
+    );
+    let bounds = [x0, x1, y0, y1, s0, s1, d0, d1];
+    bounds
+        .iter()
+        .all(|v| v.is_finite())
+        .then_some(([a, b], bounds))
+}
+
+/// The largest share `f` (at most 1) such that the octagon shrunk towards `c` by `f` lies
+/// within the convex polygon `image` (which holds `c`): for each of the octagon's corners,
+/// where the ray from `c` through it leaves the polygon, through the edge between the
+/// corners its direction lies between (found by walking round, both in order, from the
+/// edges about corner `start`). `None` for a polygon that does not go round `c`.
+#[cfg(feature = "animate")]
+fn inscribed_share(
+    image: &[[Geo; 2]; UMBRA_CORNERS],
+    c: [Geo; 2],
+    octagon: &[[Geo; 2]; 8],
+    start: usize,
+) -> Option<Geo> {
+    let from_c = |p: [Geo; 2]| [p[0] - c[0], p[1] - c[1]];
+    let turn = |points: &[[Geo; 2]]| {
+        let next = points.iter().cycle().skip(1);
+        let edges = points.iter().zip(next);
+        edges
+            .map(|(&p, &q)| cross(from_c(p), from_c(q)))
+            .sum::<Geo>()
+    };
+    let (image_turn, octagon_turn) = (turn(image), turn(octagon));
+    if !(image_turn.abs() > 0.0 && octagon_turn.abs() > 0.0) {
+        return None;
+    }
+    let sign = if image_turn > 0.0 { 1.0 } else { -1.0 };
+    let mut f: Geo = 1.0;
+    // The edge before `start`: the octagon's first corner (rightmost) lies about there.
+    let mut edge = start + UMBRA_CORNERS - 1;
+    // The octagon's corners in the image's order round `c`.
+    let mut in_order = *octagon;
+    if (octagon_turn > 0.0) != (image_turn > 0.0) {
+        in_order.reverse();
+    }
+    // Corner `i` of the image (round and round), from `c`.
+    let at = |i: usize| from_c(image.get(i % UMBRA_CORNERS).copied().unwrap_or(c));
+    for corner in in_order {
+        let v = from_c(corner);
+        // Walk to the edge whose ends `v` lies between (at most once round, and once more
+        // for the first corner).
+        let mut found = false;
+        for _ in 0..2 * UMBRA_CORNERS {
+            let (p, q) = (at(edge), at(edge + 1));
+            if sign * cross(p, v) >= 0.0 && sign * cross(v, q) > 0.0 {
+                // Where `t v` meets the edge `p + u (q - p)`.
+                let e = [q[0] - p[0], q[1] - p[1]];
+                let (inside, out) = (sign * cross(e, [-p[0], -p[1]]), sign * cross(e, v));
+                // `c` inside the edge, `v` past it: `t = inside / -out` of the way.
+                if out < 0.0 {
+                    f = f.min(inside / -out);
+                }
+                found = true;
+                break;
+            }
+            edge += 1;
+        }
+        if !found {
+            return None;
+        }
+    }
+    (f > 0.0).then_some(f)
 }
 
 /// The rows whose primary rays can reach an infinite plane, every column.

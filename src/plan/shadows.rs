@@ -350,13 +350,7 @@ pub(crate) fn widened_vertices<S: Scalar>(
     facing_the_light: bool,
     vertices: &mut [Vec3<Geo>; 8],
 ) -> Option<bool> {
-    let margin = |points: &[Vec3<Geo>]| {
-        let reach = points
-            .iter()
-            .map(|&p| norm_1(p - l) + norm_1(p))
-            .fold(0.0, Geo::max);
-        SHADOW_STEPS * resolution + angle * reach
-    };
+    let margin = |points: &[Vec3<Geo>]| shadow_margin(points, l, resolution, angle);
     let (center, radius) = match object.shape() {
         Shape::Sphere(s) => (s.center.to_geo(), s.radius.to_geo()),
         Shape::RevSurf(s) if cfg!(feature = "revsurf") => (s.center.to_geo(), s.bound.to_geo()),
@@ -383,6 +377,97 @@ pub(crate) fn widened_vertices<S: Scalar>(
     Some(false)
 }
 
+/// The margin a shadow's bounds are widened by (narrowed by, for a certain umbra), for an
+/// object reaching `points` and a light at `l`, directions by `angle` radians.
+fn shadow_margin(points: &[Vec3<Geo>], l: Vec3<Geo>, resolution: Geo, angle: Geo) -> Geo {
+    let reach = points
+        .iter()
+        .map(|&p| norm_1(p - l) + norm_1(p))
+        .fold(0.0, Geo::max);
+    SHADOW_STEPS * resolution + angle * reach
+}
+
+/// The corners of a certain umbra's polygon (see [`certain_umbra`]).
+#[cfg(feature = "animate")]
+pub(crate) const UMBRA_CORNERS: usize = 16;
+
+/// Into `corners`, in order, a convex polygon on `plane` every point `P` of which is in the
+/// ball `object`'s shadow from `l` for certain, as a number type of resolution `resolution`
+/// traces it (directions within `angle` radians): the line from `P` to `l` passes within
+/// the radius less the margin [`widened_vertices`] adds of the centre; the ball lies
+/// between `P` and `l`, at least that margin from the plane (so a shadow ray's root is
+/// clearly ahead of `P`) and that margin behind `z_limit` (the z rule drops hits in front
+/// of it). The corners lie on the cone from `l` tangent to the shrunk ball, beyond where it
+/// touches it, and so inside the shadow's ellipse. `false` where there is none: not a
+/// ball, the ball near the plane or beyond it from `l`, or the cone not wholly meeting the
+/// plane beyond the ball.
+#[cfg(feature = "animate")]
+pub(crate) fn certain_umbra<S: Scalar>(
+    object: &Object<S>,
+    l: Vec3<Geo>,
+    (resolution, angle): (Geo, Geo),
+    z_limit: Geo,
+    plane: &crate::object::Plane<S>,
+    corners: &mut [Vec3<Geo>; UMBRA_CORNERS],
+) -> bool {
+    /// Cosines of 22.5, 45 and 67.5 degrees.
+    const C1: Geo = geometry::from_f64(0.923_879_532_511_286_7);
+    const C2: Geo = geometry::FRAC_1_SQRT_2;
+    const C3: Geo = geometry::from_f64(0.382_683_432_365_089_8);
+    const AROUND: [(Geo, Geo); UMBRA_CORNERS] = [
+        (1.0, 0.0),
+        (C1, C3),
+        (C2, C2),
+        (C3, C1),
+        (0.0, 1.0),
+        (-C3, C1),
+        (-C2, C2),
+        (-C1, C3),
+        (-1.0, 0.0),
+        (-C1, -C3),
+        (-C2, -C2),
+        (-C3, -C1),
+        (0.0, -1.0),
+        (C3, -C1),
+        (C2, -C2),
+        (C1, -C3),
+    ];
+    let Shape::Sphere(ball) = object.shape() else {
+        return false;
+    };
+    let (center, radius) = (ball.center.to_geo(), ball.radius.to_geo());
+    let reach = Vec3::new(radius, radius, radius);
+    let m = shadow_margin(&[center - reach, center + reach], l, resolution, angle);
+    let r = radius - m;
+    let (n, p0) = (plane.unit_normal.to_geo(), plane.point.to_geo());
+    let (above, light_above) = (n.dot(center - p0), n.dot(l - p0));
+    // The ball clear of the plane by the margin, on the light's side.
+    let clear = radius + m;
+    let sides = above > clear && light_above > 0.0 || above < -clear && light_above < 0.0;
+    if !(r > 0.0 && sides && center.z + clear < z_limit) {
+        return false;
+    }
+    let Some((distance, [a, u, w])) = cone_axes(l, center, r) else {
+        return false;
+    };
+    // Where the cone touches the shrunk ball: `distance - r^2 / distance` along the axis,
+    // a circle of radius `r sqrt(distance^2 - r^2) / distance` (a millionth inside it).
+    let along = distance - r * r / distance;
+    let across = r * geometry::sqrt(distance * distance - r * r) / distance * (1.0 - MILLIONTH);
+    let middle = l + a * along;
+    let toward_plane = n.dot(p0 - l);
+    for (corner, (x, y)) in corners.iter_mut().zip(AROUND) {
+        let q = middle + u * (across * x) + w * (across * y);
+        let s = toward_plane / n.dot(q - l);
+        // Beyond the touching circle (and so beyond where the line leaves the ball).
+        if !(s > 1.0 + geometry::allowance(1e-9, 1e-5) && s.is_finite()) {
+            return false;
+        }
+        *corner = l + (q - l) * s;
+    }
+    true
+}
+
 /// Into `vertices`, a regular octagon about the cross-section of the cone from `l` tangent
 /// to the ball `(center, r)`, where the ball begins along the cone's axis: a shadow ray from
 /// `P` to `l` meets the ball only if `P` lies in the cone and at least `D - r` along its
@@ -399,14 +484,9 @@ pub(crate) fn cone_octagon(
     /// `cos 22.5°` and `sin 22.5°`.
     const C: Geo = geometry::from_f64(0.923_879_532_511_286_7);
     const S: Geo = geometry::from_f64(0.382_683_432_365_089_8);
-    let to = center - l;
-    let distance = geometry::sqrt(to.dot(to));
-    let [a, u, w] = facing(to);
-    // `facing` gives the axes where its roots fail: then `a` may not point at the ball.
-    let pointed = a.dot(to) >= distance * (1.0 - geometry::allowance(1e-9, 1e-5));
-    if !(distance > r * 1.001 && pointed && distance.is_finite()) {
+    let Some((distance, [a, u, w])) = cone_axes(l, center, r) else {
         return false;
-    }
+    };
     let tan = r / geometry::sqrt(distance * distance - r * r);
     let near = (distance - r) * (1.0 - MILLIONTH);
     // The octagon's corners are `1 / cos 22.5°` out from its inscribed circle.
@@ -427,6 +507,19 @@ pub(crate) fn cone_octagon(
         *v = middle + u * x + w * y;
     }
     true
+}
+
+/// The distance from `l` to the ball `(center, r)` and three orthogonal unit vectors, the
+/// first from `l` towards the centre; `None` where `l` is within a thousandth of the
+/// radius of the ball, or the axes fail.
+fn cone_axes(l: Vec3<Geo>, center: Vec3<Geo>, r: Geo) -> Option<(Geo, [Vec3<Geo>; 3])> {
+    let to = center - l;
+    let distance = geometry::sqrt(to.dot(to));
+    let axes = facing(to);
+    // `facing` gives the axes where its roots fail: then the first may not point at the
+    // ball.
+    let pointed = axes[0].dot(to) >= distance * (1.0 - geometry::allowance(1e-9, 1e-5));
+    (distance > r * 1.001 && pointed && distance.is_finite()).then_some((distance, axes))
 }
 
 /// Three orthogonal unit vectors, the first along `d` (the axes when `d` is zero or the

@@ -254,6 +254,16 @@ impl<
         replace(&mut self.lights, index, light, Collection::Lights)
     }
 
+    /// Replaces the camera with `def` (its image no wider than the scene's rows hold) and
+    /// returns the camera it replaces: a new view, which a
+    /// [`Region::add_camera_change`](crate::region::Region::add_camera_change) takes as the
+    /// whole frame. On an error the scene is unchanged.
+    #[cfg(feature = "animate")]
+    pub fn replace_camera(&mut self, def: &CameraDef<'_>) -> Result<Camera<S>, ErrorKind> {
+        let camera = Camera::build(def, MAX_WIDTH, self.scale)?;
+        Ok(core::mem::replace(&mut self.camera, camera))
+    }
+
     /// Replaces material `index` with `def`, which must keep its name (objects name it),
     /// and returns the material it replaces.
     #[cfg(feature = "animate")]

@@ -90,6 +90,10 @@ enum Change {
     Material(usize, Stuff),
     /// Light `.0` moves to `.1`.
     MoveLight(usize, [f64; 3]),
+    /// Light `.0` shines with emissivity `.1`.
+    Glow(usize, [f64; 3]),
+    /// The eye moves to `.0`.
+    Look([f64; 3]),
 }
 
 fn normal() -> impl Strategy<Value = [f64; 3]> {
@@ -142,6 +146,8 @@ fn change() -> impl Strategy<Value = Change> {
         1 => (0..5usize, 0..4usize).prop_map(|(i, m)| Change::Wear(i, m)),
         1 => (0..4usize, stuff()).prop_map(|(i, s)| Change::Material(i, s)),
         1 => (0..3usize, [-6.0..10.0f64, 0.5..12.0f64, -6.0..4.0f64]).prop_map(|(i, at)| Change::MoveLight(i, at)),
+        1 => (0..3usize, [0.0..12.0f64, 0.0..12.0f64, 0.0..12.0f64]).prop_map(|(i, e)| Change::Glow(i, e)),
+        1 => [1.0..7.0f64, 1.0..5.0f64, 2.0..8.0f64].prop_map(Change::Look),
     ]
 }
 
@@ -365,6 +371,20 @@ fn play_with<S: Scalar>(film: &Film, aa: Option<Antialias>) -> Result<Saved, Tes
                     if scene.replace_light(i, &light_def(&lamp)).is_ok() {
                         lamps[i] = lamp;
                         region.add_light_change();
+                    }
+                }
+                Change::Glow(i, emissivity) if i < lamps.len() => {
+                    let lamp = (lamps[i].0, lamps[i].1, emissivity);
+                    if scene.replace_light(i, &light_def(&lamp)).is_ok() {
+                        lamps[i] = lamp;
+                        region.add_light_change();
+                    }
+                }
+                Change::Look(eye) => {
+                    let size = [WIDTH as u32, HEIGHT as u32];
+                    let camera = CameraDef::new("c", size, [8.0, 6.0], eye);
+                    if scene.replace_camera(&camera).is_ok() {
+                        region.add_camera_change();
                     }
                 }
                 _ => {}

@@ -12,12 +12,15 @@
 //!   ([`crate::plan`]'s shadow polytope, widened for rounding). On an infinite plane those
 //!   points lie in the hull of the polytope's projection from `L` onto the plane; a bounded
 //!   object is taken whole (its outline) where its bounding sphere can meet that cone;
+//!   less, for an opaque ball's shadow on a flat receiver, the pixels in its certain umbra
+//!   both before and after (their shadow rays to `L` cross the ball both times, in any
+//!   number type: `L` adds nothing there either time);
 //! - its primary hit is on a mirror or a transparent object: their outlines, whole.
 //!
 //! A light that changes can change anything it lights: the whole frame, as does a camera
-//! that changes. Every bound is conservative (`Geo`, from the number type's own values,
-//! with the plan's margins); `tests/animate.rs` compares incremental frames with full ones
-//! in every number type.
+//! that changes. Every bound is conservative (worked out in `f64`, or in `f32` with the
+//! `geometry-f32` feature, from the number type's own values, with the plan's margins);
+//! `tests/animate.rs` compares incremental frames with full ones in every number type.
 //!
 //! The region is a short list of disjoint screen rectangles whose capacity is part of the
 //! type, as with every list in microray: a rectangle that overlaps one already there adds
@@ -232,8 +235,9 @@ struct Corners {
 }
 
 /// The least pixels of a box, a point of its hull, worth a cut: a cut keeps about 85 % of a
-/// box, and a point's projection in soft `Geo` costs about four pixels' tracing on the
-/// Cortex-M4F in `f32` (an estimate; every hull of the films in `scenes/` passes).
+/// box, and a point's projection in software `f64` cost about four pixels' tracing on the
+/// Cortex-M4F in `f32` (an estimate, before the geometry was `f32` there; every hull of the
+/// films in `scenes/` passes).
 const CUT_PRICE: u32 = 24;
 
 /// A cut's weights over a box: as bytes (`a` not zero) and as numbers, the largest
@@ -1226,7 +1230,7 @@ fn opaque<S: Scalar>(scene: &Parts<'_, S>, object: &Object<S>) -> bool {
 }
 
 /// A flat mirror whose reflections a region follows: its plane (`normal . P = offset`,
-/// the normal a unit in `Geo`) and its outline.
+/// the normal a unit in the geometry's type) and its outline.
 struct Mirror {
     normal: Vec3<Geo>,
     offset: Geo,

@@ -12,10 +12,11 @@
 //!   and an object can be hit only by the rows whose half-line meets its outline: a sphere's
 //!   disc, a rectangle's corners' hull, an infinite plane's half of the view (its horizon).
 //!
-//! Every bound is conservative: it is computed in `Geo` from the number type's own values,
-//! widened by an angle of 2e-3 radians and 64 steps of the type's resolution, then by one
-//! row on each side, so the rounding of the rays in `f32` or fixed point cannot reach an
-//! object its row's list left out. A planned render is pixel for pixel the render without a
+//! Every bound is conservative: it is computed in `f64` (or `f32`, see
+//! [`crate::scalar::geometry`]) from the number type's own values, widened by an angle of
+//! 2e-3 radians and 64 steps of the type's resolution, then by one row on each side, so the
+//! rounding of the rays in `f32` or fixed point cannot reach an object its row's list left
+//! out. A planned render is pixel for pixel the render without a
 //! plan; the tests check that for every scene and number type.
 
 use crate::camera::Camera;
@@ -776,7 +777,7 @@ fn plane_in_front<S: Scalar>(
     n.x == S::ZERO && n.y == S::ZERO && clear_of(plane.point.z.to_geo(), 0.0)
 }
 
-/// A rectangle's corners, in `Geo`.
+/// A rectangle's corners, in the geometry's type.
 fn corners<S: Scalar>(rect: &crate::object::Rect<S>) -> [Vec3<Geo>; 4] {
     let p = rect.plane.point.to_geo();
     let across = rect.u.to_geo() * rect.dimensions[0].to_geo();

@@ -104,7 +104,7 @@ impl ShadowBoxes {
 
     /// The boxes for a scene's lights and kept objects; `None` where there are none (no
     /// object that depends on `x`, one that is not bounded, or no shadow that is). Out of
-    /// line: its `Geo` arrays stay out of the caller's frame (RAM on a Cortex-M0).
+    /// line: its arrays of points stay out of the caller's frame (RAM on a Cortex-M0).
     #[inline(never)]
     pub fn new<S: Scalar>(
         camera: &Camera<S>,
@@ -140,13 +140,13 @@ impl ShadowBoxes {
         // through the calls, its copies were the frame's largest part (RAM on a Cortex-M0).
         let mut points = [Vec3::ZERO; 8];
         // One occluder's shadow is bounded or not as its points are projected: no pass to
-        // check it first (soft float's `Geo`).
+        // check it first (soft float).
         let single = occluders.len() == 1;
         for (number, light) in lights.iter().enumerate() {
             let number = u8::try_from(number).ok()?;
             'receivers: for &receiver in &receivers {
                 // One shadow that is not bounded, and every pixel tests the light: the
-                // others are not worth their outlines (soft float's `Geo`).
+                // others are not worth their outlines (soft float).
                 let bounded = single
                     || occluders.iter().all(|&index| {
                         objects.get(usize::from(index)).is_some_and(|object| {
@@ -366,7 +366,7 @@ pub(crate) fn widened_vertices<S: Scalar>(
     // With `facing_the_light`, the octagon about the cone of shadow rays that meet the
     // ball, where the cone begins (see `cone_octagon`): its shadow is the ball's within 6 %
     // of its area, where a cube's is up to 1.6 times it (the plan's boxes keep the axis
-    // cube: no square roots in soft float's `Geo` on every render).
+    // cube: no square roots in soft float on every render).
     if cfg!(feature = "animate") && facing_the_light && cone_octagon(center, r, l, vertices) {
         return Some(true);
     }
@@ -595,7 +595,7 @@ fn slab<S: Scalar>(
 
 /// `|v|` within `2^-23` (see [`sqrt_f64_rough`](crate::scalar::sqrt_f64_rough)): a
 /// panel's distances and sides only place margins of `2e-3` and more, and the exact root
-/// in software `Geo` was 5 of fplane3's instructions a pixel on the Cortex-M4F.
+/// in software `f64` was 5 of fplane3's instructions a pixel on the Cortex-M4F.
 fn rough_length(v: Vec3<Geo>) -> Geo {
     geometry::sqrt_rough(v.dot(v))
 }

@@ -7,6 +7,9 @@ use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
 use embedded_graphics::prelude::{DrawTarget, OriginDimensions, Pixel, Point, Size};
 use std::path::{Path, PathBuf};
 
+#[cfg(all(test, feature = "animate", feature = "antialias"))]
+mod umbra_tests;
+
 /// A texture resolver that reads files relative to `scene_dir`, the scene file's folder.
 ///
 /// Each file is read once and kept for the rest of the process (the scene borrows the bytes

@@ -7,10 +7,15 @@
 mod common;
 
 use embedded_graphics::mock_display::MockDisplay;
+use embedded_graphics::pixelcolor::{BinaryColor, Gray2, Gray4, Gray8, Rgb555, Rgb666};
 use embedded_graphics::pixelcolor::{Rgb565, Rgb888, RgbColor};
 use embedded_graphics::prelude::*;
+use embedded_graphics::primitives::Rectangle;
 use microray::Scene;
-use microray::dither::{Rgb565Dither, dither_rgb565, truncate_rgb565};
+use microray::dither::{
+    Diffusion, Dither, DitherError, Format, Kernel, Matrix, Method, PanelColor, Rgb332, Rgb444,
+    Rgb565Dither, dither_ordered, dither_rgb565, shown, truncate_rgb565,
+};
 use microray::host::{Framebuffer, HostScene, texture_files};
 use microray::parse::{no_textures, parse_scene};
 use microray::render::render;
@@ -32,6 +37,37 @@ fn box_filtered_rms(width: usize, a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
                     s / 16.0
                 };
                 let d = mean(a) - mean(b);
+                sum += d * d;
+                n += 1;
+            }
+        }
+    }
+    (sum / n.max(1) as f64).sqrt()
+}
+
+/// The RMS difference (8-bit levels) between two images after a 4x4 box filter at every
+/// position (the boxes overlap). Not only at the 4x4 tiles: those line up with the 4x4 Bayer
+/// matrix, whose every tile keeps its exact mean, and would favour it over the others.
+fn sliding_box_rms(width: usize, a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
+    let height = a.len() / width;
+    if width < 4 || height < 4 {
+        return 0.0;
+    }
+    let (mut sum, mut n) = (0.0, 0usize);
+    for k in 0..3 {
+        // Summed-area table of the difference, one row and column of zeros in front.
+        let mut table = vec![0.0; (width + 1) * (height + 1)];
+        for y in 0..height {
+            let mut run = 0.0;
+            for x in 0..width {
+                run += a[y * width + x][k] - b[y * width + x][k];
+                table[(y + 1) * (width + 1) + x + 1] = table[y * (width + 1) + x + 1] + run;
+            }
+        }
+        let at = |x: usize, y: usize| table[y * (width + 1) + x];
+        for y in 0..=height - 4 {
+            for x in 0..=width - 4 {
+                let d = (at(x + 4, y + 4) - at(x, y + 4) - at(x + 4, y) + at(x, y)) / 16.0;
                 sum += d * d;
                 n += 1;
             }
@@ -119,4 +155,381 @@ fn the_wrapper_dithers_what_the_renderer_draws() {
         }
     }
     assert!(distinct.len() > 4, "a gradient, not a flat colour");
+}
+
+/// A panel of any format in memory.
+struct Panel<C> {
+    size: Size,
+    pixels: Vec<Option<C>>,
+}
+
+impl<C: PanelColor> Panel<C> {
+    fn new(size: Size) -> Self {
+        Panel {
+            size,
+            pixels: vec![None; (size.width * size.height) as usize],
+        }
+    }
+
+    /// Every pixel, each drawn (a pixel never drawn fails the test).
+    fn drawn(&self) -> Vec<C> {
+        self.pixels
+            .iter()
+            .map(|p| p.expect("every pixel drawn"))
+            .collect()
+    }
+}
+
+impl<C: PanelColor> Dimensions for Panel<C> {
+    fn bounding_box(&self) -> Rectangle {
+        Rectangle::new(Point::zero(), self.size)
+    }
+}
+
+impl<C: PanelColor> DrawTarget for Panel<C> {
+    type Color = C;
+    type Error = core::convert::Infallible;
+
+    fn draw_iter<I: IntoIterator<Item = Pixel<C>>>(
+        &mut self,
+        pixels: I,
+    ) -> Result<(), Self::Error> {
+        for Pixel(p, c) in pixels {
+            if self.bounding_box().contains(p) {
+                self.pixels[(p.y as u32 * self.size.width + p.x as u32) as usize] = Some(c);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// An Rgb888 picture through `method` (None: truncation) into a `C` panel, drawn as the
+/// renderer draws: one `fill_contiguous` a row.
+fn through<C: PanelColor>(size: Size, image: &[Rgb888], method: Option<Method>) -> Vec<C> {
+    let mut panel = Panel::<C>::new(size);
+    let mut memory = vec![0i16; Diffusion::<C>::cells(Kernel::Atkinson, size.width as usize)];
+    let mut dither = match method {
+        None => Dither::truncating(&mut panel),
+        Some(Method::Ordered(m)) => Dither::ordered(&mut panel, m),
+        Some(Method::Diffusion { kernel, serpentine }) => {
+            Dither::diffusing(&mut panel, kernel, serpentine, &mut memory).unwrap()
+        }
+    };
+    for (y, row) in image.chunks(size.width as usize).enumerate() {
+        let line = Rectangle::new(Point::new(0, y as i32), Size::new(size.width, 1));
+        dither.fill_contiguous(&line, row.iter().copied()).unwrap();
+    }
+    panel.drawn()
+}
+
+/// The picture in the panel's colour space, exactly: 8-bit channels, or BT.601 luma in
+/// 256ths for grey (the rule the dithers quantize).
+fn in_panel_space<C: PanelColor>(image: &[Rgb888]) -> Vec<[f64; 3]> {
+    image
+        .iter()
+        .map(|c| {
+            let (r, g, b) = (f64::from(c.r()), f64::from(c.g()), f64::from(c.b()));
+            if C::GREY {
+                [(77.0 * r + 150.0 * g + 29.0 * b) / 256.0, 0.0, 0.0]
+            } else {
+                [r, g, b]
+            }
+        })
+        .collect()
+}
+
+fn shown_in_panel_space<C: PanelColor>(panel: &[C]) -> Vec<[f64; 3]> {
+    panel
+        .iter()
+        .map(|&c| {
+            let s = shown(c);
+            if C::GREY {
+                [f64::from(s.r()), 0.0, 0.0]
+            } else {
+                [f64::from(s.r()), f64::from(s.g()), f64::from(s.b())]
+            }
+        })
+        .collect()
+}
+
+/// Every method and the serpentine diffusions, by name.
+fn methods() -> Vec<Method> {
+    let mut all: Vec<Method> = Method::ALL.iter().map(|&(_, m)| m).collect();
+    for kernel in [Kernel::FloydSteinberg, Kernel::Atkinson] {
+        all.push(Method::Diffusion {
+            kernel,
+            serpentine: true,
+        });
+    }
+    all
+}
+
+/// Box-filtered RMS of truncation and of each method against the picture, in `C`'s space.
+fn errors<C: PanelColor>(size: Size, image: &[Rgb888]) -> (f64, Vec<f64>) {
+    let width = size.width as usize;
+    let reference = in_panel_space::<C>(image);
+    let rms = |method| {
+        let panel = through::<C>(size, image, method);
+        sliding_box_rms(width, &reference, &shown_in_panel_space(&panel))
+    };
+    (
+        rms(None),
+        methods().into_iter().map(|m| rms(Some(m))).collect(),
+    )
+}
+
+fn each_format(size: Size, image: &[Rgb888]) -> Vec<(Format, f64, Vec<f64>)> {
+    let row = |f, (t, m)| (f, t, m);
+    vec![
+        row(Format::Binary, errors::<BinaryColor>(size, image)),
+        row(Format::Gray2, errors::<Gray2>(size, image)),
+        row(Format::Gray4, errors::<Gray4>(size, image)),
+        row(Format::Gray8, errors::<Gray8>(size, image)),
+        row(Format::Rgb332, errors::<Rgb332>(size, image)),
+        row(Format::Rgb444, errors::<Rgb444>(size, image)),
+        row(Format::Rgb555, errors::<Rgb555>(size, image)),
+        row(Format::Rgb565, errors::<Rgb565>(size, image)),
+        row(Format::Rgb666, errors::<Rgb666>(size, image)),
+    ]
+}
+
+/// The course's f64 pictures, by name.
+fn course_pictures() -> Vec<(String, Size, Vec<Rgb888>)> {
+    let dir = common::required_conformance_dir();
+    common::scene_files(&dir)
+        .into_iter()
+        .map(|path| {
+            let name = path.file_stem().unwrap().to_str().unwrap().to_string();
+            let text = std::fs::read(&path).unwrap();
+            let scene: HostScene<'_, f64> =
+                parse_scene(&text, texture_files(path.parent().unwrap())).unwrap();
+            let camera = scene.camera();
+            let size = Size::new(u32::from(camera.width()), u32::from(camera.height()));
+            let mut image = Framebuffer::new(size);
+            render(&scene, &mut image).unwrap();
+            let pixels = image
+                .rgb()
+                .chunks(3)
+                .map(|c| Rgb888::new(c[0], c[1], c[2]))
+                .collect();
+            (name, size, pixels)
+        })
+        .collect()
+}
+
+#[test]
+#[cfg_attr(
+    not(microray_conformance),
+    ignore = "needs the course's scenes: set MICRORAY_CONFORMANCE to their folder"
+)]
+fn every_method_beats_truncation_in_every_format_on_every_course_scene() {
+    let pictures = course_pictures();
+    let names: Vec<&str> = methods().iter().map(|m| m.name()).collect();
+    // format -> (sum of truncation's RMS, sums of each method's)
+    let mut sums: Vec<(Format, f64, Vec<f64>)> = Vec::new();
+    let mut failures = Vec::new();
+    let results: Vec<_> = std::thread::scope(|s| {
+        let jobs: Vec<_> = pictures
+            .iter()
+            .map(|(name, size, image)| s.spawn(move || (name, each_format(*size, image))))
+            .collect();
+        jobs.into_iter().map(|j| j.join().unwrap()).collect()
+    });
+    for (scene, rows) in &results {
+        for (format, truncated, each) in rows {
+            for (name, &e) in names.iter().zip(each) {
+                // Better, or exact where truncation is (a picture of whole levels).
+                let better = if *truncated == 0.0 {
+                    e == 0.0
+                } else {
+                    e < *truncated
+                };
+                if !better {
+                    failures.push(format!(
+                        "{scene} {} {name}: {e:.3} >= {truncated:.3}",
+                        format.name()
+                    ));
+                }
+            }
+            match sums.iter_mut().find(|(f, _, _)| f == format) {
+                Some((_, t, m)) => {
+                    *t += truncated;
+                    for (s, e) in m.iter_mut().zip(each) {
+                        *s += e;
+                    }
+                }
+                None => sums.push((*format, *truncated, each.clone())),
+            }
+        }
+    }
+    let n = results.len() as f64;
+    let mut table = format!(
+        "| format | truncated | {} | best |\n|---|---|{}---|\n",
+        names.join(" | "),
+        "---|".repeat(names.len())
+    );
+    let mut wrong_default = Vec::new();
+    for (format, t, m) in &sums {
+        let means: Vec<f64> = m.iter().map(|s| s / n).collect();
+        let best = (0..means.len())
+            .min_by(|&a, &b| means[a].total_cmp(&means[b]))
+            .unwrap();
+        let cells: Vec<String> = means.iter().map(|v| format!("{v:.3}")).collect();
+        table += &format!(
+            "| {} | {:.3} | {} | {} |\n",
+            format.name(),
+            t / n,
+            cells.join(" | "),
+            names[best]
+        );
+        if format.best_method().name() != names[best] {
+            wrong_default.push(format!(
+                "{}: {} (best {})",
+                format.name(),
+                format.best_method().name(),
+                names[best]
+            ));
+        }
+    }
+    eprintln!(
+        "mean 4x4 box-filtered RMS over {} course scenes, in 8-bit steps:\n{table}",
+        results.len()
+    );
+    assert!(
+        failures.is_empty(),
+        "not better than truncation: {failures:#?}"
+    );
+    assert!(
+        wrong_default.is_empty(),
+        "Format::best_method is not the table's best: {wrong_default:?}"
+    );
+}
+
+#[test]
+fn the_wrapper_diffuses_what_the_renderer_draws() {
+    // The renderer's rows through the wrapper equal the same rows diffused by hand.
+    let text = b"camera c { pixeldim 48 36 worlddim 8 6 viewpoint 4 3 4 }
+                 material grey { ambient 1 1 1 diffuse 3 3 3 }
+                 plane floor { material grey normal 0 1 0 point 0 0 0 }
+                 sphere ball { material grey center 4 2 -3 radius 1.5 }
+                 light sun { location 4 5 -2 emissivity 4 4 4 }";
+    let scene: Scene<f32, 2, 1, 1, 0, 48> = parse_scene(text, no_textures).unwrap();
+    let size = Size::new(48, 36);
+    let mut full: MockDisplay<Rgb888> = MockDisplay::new();
+    full.set_allow_out_of_bounds_drawing(true);
+    let mut image = Framebuffer::new(size);
+    render(&scene, &mut image).unwrap();
+    let pixels: Vec<Rgb888> = image
+        .rgb()
+        .chunks(3)
+        .map(|c| Rgb888::new(c[0], c[1], c[2]))
+        .collect();
+    for kernel in [Kernel::FloydSteinberg, Kernel::Atkinson] {
+        for serpentine in [false, true] {
+            let mut panel = Panel::<Gray2>::new(size);
+            let mut memory = vec![0i16; Diffusion::<Gray2>::cells(kernel, 48)];
+            let mut dither =
+                Dither::diffusing(&mut panel, kernel, serpentine, &mut memory).unwrap();
+            render(&scene, &mut dither).unwrap();
+            // And again: after the last row the wrapper starts over at the top.
+            render(&scene, &mut dither).unwrap();
+            let mut by_hand = vec![0i16; Diffusion::<Gray2>::cells(kernel, 48)];
+            let mut d = Diffusion::<Gray2>::new(kernel, serpentine, 48, &mut by_hand).unwrap();
+            let mut expected = Vec::new();
+            for row in pixels.chunks(48) {
+                for (x, &c) in row.iter().enumerate() {
+                    d.set(x, c);
+                }
+                d.finish_row();
+                expected.extend(d.levels());
+                d.next_row();
+            }
+            assert_eq!(panel.drawn(), expected, "{kernel:?} {serpentine}");
+            let levels: std::collections::BTreeSet<u8> =
+                expected.iter().map(|c| c.luma()).collect();
+            assert!(levels.len() >= 3, "a gradient: {levels:?}");
+        }
+    }
+    // The ordered methods give what dither_ordered gives, pixel by pixel.
+    let mut panel = Panel::<Rgb444>::new(size);
+    render(&scene, &mut Dither::ordered(&mut panel, Matrix::BlueNoise)).unwrap();
+    for (i, (&got, &c)) in panel.drawn().iter().zip(&pixels).enumerate() {
+        let p = Point::new((i % 48) as i32, (i / 48) as i32);
+        assert_eq!(got, dither_ordered::<Rgb444>(c, p, Matrix::BlueNoise));
+    }
+}
+
+#[test]
+fn error_diffusion_refuses_the_progressive_order() {
+    let text = b"camera c { pixeldim 32 24 worlddim 8 6 viewpoint 4 3 4 }
+                 material grey { ambient 1 1 1 diffuse 3 3 3 }
+                 plane floor { material grey normal 0 1 0 point 0 0 0 }
+                 light sun { location 4 5 -2 emissivity 4 4 4 }";
+    let scene: Scene<f32, 2, 1, 1, 0, 32> = parse_scene(text, no_textures).unwrap();
+    let renderer = microray::render::Renderer::new(&scene);
+    let mut panel = Panel::<BinaryColor>::new(Size::new(32, 24));
+    let mut memory = vec![0i16; Diffusion::<BinaryColor>::cells(Kernel::FloydSteinberg, 32)];
+    let mut dither =
+        Dither::diffusing(&mut panel, Kernel::FloydSteinberg, false, &mut memory).unwrap();
+    let mut row = [Rgb888::BLACK; 32];
+    // The first passes fill whole rows (blocks side by side); a later one draws single
+    // pixels, which the diffusion refuses.
+    let e = (0..microray::render::BLOCKS.len())
+        .find_map(|pass| renderer.render_pass(&mut dither, &mut row, pass).err())
+        .expect("refused");
+    match &e {
+        microray::render::RenderError::Target(
+            d @ DitherError::OutOfOrder { expected_row, got },
+        ) => {
+            assert_ne!(got.y, *expected_row, "{got:?}");
+            assert!(d.to_string().contains("use an ordered dither"), "{d}");
+        }
+        other => panic!("{other:?}"),
+    }
+    // An ordered dither takes the progressive order.
+    let mut panel = Panel::<BinaryColor>::new(Size::new(32, 24));
+    let mut dither = Dither::ordered(&mut panel, Matrix::Bayer8);
+    for pass in 0..microray::render::BLOCKS.len() {
+        renderer.render_pass(&mut dither, &mut row, pass).unwrap();
+    }
+    let _ = panel.drawn();
+}
+
+#[test]
+fn a_partial_area_is_diffused_on_its_own() {
+    // render_area into a rectangle of the panel, the diffusion set to that rectangle.
+    let text = b"camera c { pixeldim 40 30 worlddim 8 6 viewpoint 4 3 4 }
+                 material grey { ambient 1 1 1 diffuse 3 3 3 }
+                 plane floor { material grey normal 0 1 0 point 0 0 0 }
+                 light sun { location 4 5 -2 emissivity 4 4 4 }";
+    let scene: Scene<f32, 2, 1, 1, 0, 40> = parse_scene(text, no_textures).unwrap();
+    let renderer = microray::render::Renderer::new(&scene);
+    let area = Rectangle::new(Point::new(5, 7), Size::new(20, 10));
+    let mut panel = Panel::<Gray4>::new(Size::new(40, 30));
+    let mut memory = vec![0i16; Diffusion::<Gray4>::cells(Kernel::Atkinson, 20)];
+    let mut dither =
+        Dither::diffusing_area(&mut panel, area, Kernel::Atkinson, true, &mut memory).unwrap();
+    let mut row = [Rgb888::BLACK; 40];
+    renderer
+        .render_area(&mut dither, area, &mut row, |_| {
+            core::ops::ControlFlow::Continue(())
+        })
+        .unwrap();
+    let mut whole = Framebuffer::new(Size::new(40, 30));
+    render(&scene, &mut whole).unwrap();
+    let mut by_hand = vec![0i16; Diffusion::<Gray4>::cells(Kernel::Atkinson, 20)];
+    let mut d = Diffusion::<Gray4>::new(Kernel::Atkinson, true, 20, &mut by_hand).unwrap();
+    for y in 7..17 {
+        for x in 5..25 {
+            let i = (y * 40 + x) * 3;
+            let c = &whole.rgb()[i..i + 3];
+            d.set(x - 5, Rgb888::new(c[0], c[1], c[2]));
+        }
+        d.finish_row();
+        for (x, c) in (5..25).zip(d.levels()) {
+            assert_eq!(panel.pixels[y * 40 + x], Some(c), "{x} {y}");
+        }
+        d.next_row();
+    }
+    assert_eq!(panel.pixels.iter().filter(|p| p.is_some()).count(), 200);
 }

@@ -1,0 +1,361 @@
+//! Error diffusion, one row at a time: each pixel's quantization error is spread over the
+//! pixels not yet quantized, so the picture keeps its local means at full resolution.
+//!
+//! The row memory is the caller's, a slice of `i16` cells: [`Diffusion::cells`] for a
+//! width (2 rows for Floyd-Steinberg, 3 for Atkinson, each `width` x channels cells; twice
+//! that in bytes). For a 128-pixel one-bit panel, Floyd-Steinberg takes 512 bytes and
+//! Atkinson 768; for a 240-pixel Rgb565 panel, 2,880 and 4,320.
+//!
+//! Values are kept in 16ths of an 8-bit step (so grey keeps a 16th of the luma's fraction).
+//! A pixel's wanted value (its colour plus the errors it received) is clamped to the panel's
+//! range, the nearest level is taken, and the error against that level as the panel shows it
+//! (`round(255 q / max)`, [`expand`]) is spread: Floyd-Steinberg's 7, 3, 5, 1 sixteenths
+//! (the rounding remainder to the pixel below, so the whole error moves on), or Atkinson's
+//! six eighths (a quarter is dropped: sharper, lighter shadows). Errors leaving the row's
+//! ends are dropped. In serpentine order odd rows run right to left with the kernel
+//! mirrored. All integer arithmetic: host and firmware agree bit for bit.
+
+use super::color::{PanelColor, channels, expand, fine_values};
+use super::ordered::level;
+use core::marker::PhantomData;
+use embedded_graphics::pixelcolor::Rgb888;
+
+/// An error-diffusion kernel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Kernel {
+    /// Floyd and Steinberg (1976): 7/16 right, 3/16, 5/16, 1/16 on the next row.
+    FloydSteinberg,
+    /// Bill Atkinson's (Apple, 1984): 1/8 each to two on the right, three below, one two
+    /// rows down; 3/4 of the error is kept.
+    Atkinson,
+}
+
+impl Kernel {
+    /// Rows of errors the kernel keeps: the current one and those it reaches.
+    pub const fn rows(self) -> usize {
+        match self {
+            Kernel::FloydSteinberg => 2,
+            Kernel::Atkinson => 3,
+        }
+    }
+}
+
+/// Why a diffusion cannot start.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SetupError {
+    /// The row memory holds fewer cells than [`Diffusion::cells`] asks for.
+    TooLittleMemory {
+        /// The cells needed.
+        needed: usize,
+        /// The cells given.
+        given: usize,
+    },
+}
+
+impl core::fmt::Display for SetupError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            SetupError::TooLittleMemory { needed, given } => write!(
+                f,
+                "the error diffusion needs {needed} cells of row memory ({} bytes), given {given}",
+                needed * 2
+            ),
+        }
+    }
+}
+
+/// The largest value, 255 in 16ths.
+const TOP: i32 = 255 * 16;
+
+/// An error diffusion into the format `C`, `width` pixels a row, in the caller's memory.
+///
+/// Feed a row with [`set`](Self::set) (any order within the row), then
+/// [`finish_row`](Self::finish_row) quantizes it and [`levels`](Self::levels) reads it out;
+/// [`next_row`](Self::next_row) moves on.
+///
+/// ```
+/// use embedded_graphics::pixelcolor::{BinaryColor, Rgb888};
+/// use microray::dither::{Diffusion, Kernel};
+///
+/// let mut memory = [0i16; Diffusion::<BinaryColor>::cells(Kernel::FloydSteinberg, 4)];
+/// let mut d = Diffusion::<BinaryColor>::new(Kernel::FloydSteinberg, false, 4, &mut memory)?;
+/// let mut on = 0;
+/// for _ in 0..4 {
+///     for x in 0..4 {
+///         d.set(x, Rgb888::new(128, 128, 128));
+///     }
+///     d.finish_row();
+///     on += d.levels().filter(|c| c.is_on()).count();
+///     d.next_row();
+/// }
+/// assert_eq!(on, 8); // half of the 16 pixels
+/// # Ok::<(), microray::dither::SetupError>(())
+/// ```
+#[derive(Debug)]
+pub struct Diffusion<'m, C> {
+    kernel: Kernel,
+    serpentine: bool,
+    width: usize,
+    memory: &'m mut [i16],
+    /// Rows finished since the start (the ring's position, and the serpentine's parity).
+    row: usize,
+    color: PhantomData<C>,
+}
+
+impl<'m, C: PanelColor> Diffusion<'m, C> {
+    /// The `i16` cells of row memory `kernel` needs for rows of `width` pixels.
+    pub const fn cells(kernel: Kernel, width: usize) -> usize {
+        kernel.rows() * width * channels::<C>()
+    }
+
+    /// A diffusion over rows of `width` pixels (serpentine: odd rows right to left), its
+    /// rows in `memory` (at least [`cells`](Self::cells); cleared here).
+    pub fn new(
+        kernel: Kernel,
+        serpentine: bool,
+        width: usize,
+        memory: &'m mut [i16],
+    ) -> Result<Self, SetupError> {
+        let needed = Self::cells(kernel, width);
+        let given = memory.len();
+        let memory = memory
+            .get_mut(..needed)
+            .ok_or(SetupError::TooLittleMemory { needed, given })?;
+        memory.fill(0);
+        Ok(Diffusion {
+            kernel,
+            serpentine,
+            width,
+            memory,
+            row: 0,
+            color: PhantomData,
+        })
+    }
+
+    /// The row width.
+    pub fn width(&self) -> usize {
+        self.width
+    }
+
+    /// Rows finished since the start (or the last [`reset`](Self::reset)).
+    pub fn rows_done(&self) -> usize {
+        self.row
+    }
+
+    /// Starts again at the top: no errors carried.
+    pub fn reset(&mut self) {
+        self.memory.fill(0);
+        self.row = 0;
+    }
+
+    /// The cells of the row `ahead` rows below the current one.
+    fn ring(&mut self, ahead: usize) -> &mut [i16] {
+        let len = self.width * channels::<C>();
+        let k = (self.row + ahead) % self.kernel.rows();
+        self.memory
+            .get_mut(k * len..(k + 1) * len)
+            .unwrap_or(&mut [])
+    }
+
+    /// Adds pixel `x`'s colour to the errors it has received (columns past the width are
+    /// ignored).
+    #[inline]
+    pub fn set(&mut self, x: usize, c: Rgb888) {
+        let n = channels::<C>();
+        let values = fine_values::<C>(c);
+        let row = self.ring(0);
+        for (k, v) in values.iter().take(n).enumerate() {
+            if let Some(cell) = row.get_mut(x * n + k) {
+                let wanted = i32::from(*cell) + (*v >> 4) as i32;
+                *cell = wanted.clamp(i32::from(i16::MIN), i32::from(i16::MAX)) as i16;
+            }
+        }
+    }
+
+    /// Quantizes the current row, in its order, spreading the errors; its cells then hold
+    /// the levels.
+    pub fn finish_row(&mut self) {
+        let n = channels::<C>();
+        let backwards = self.serpentine && self.row % 2 == 1;
+        for k in 0..n {
+            for i in 0..self.width {
+                let x = if backwards { self.width - 1 - i } else { i };
+                self.quantize(x, k, backwards);
+            }
+        }
+    }
+
+    /// Quantizes channel `k` of pixel `x` and spreads its error.
+    #[inline(always)]
+    fn quantize(&mut self, x: usize, k: usize, backwards: bool) {
+        let n = channels::<C>();
+        let max = C::MAX.get(k).copied().unwrap_or(0);
+        let Some(cell) = self.ring(0).get_mut(x * n + k) else {
+            return;
+        };
+        let wanted = i32::from(*cell).clamp(0, TOP);
+        // The nearest level: floor((w max + 2040) / 4080), division-free as the ordered
+        // dithers do it (w in 16ths is w 16 in 256ths).
+        let q = level((wanted as u32) << 4, max, 32640);
+        let error = wanted - i32::from(expand(q, max)) * 16;
+        *cell = i16::from(q);
+        let step = if backwards { -1 } else { 1 };
+        let kernel = self.kernel;
+        let mut spread = |ahead: usize, dx: isize, e: i32| {
+            let Some(at) = x.checked_add_signed(dx * step) else {
+                return;
+            };
+            if at >= self.width {
+                return;
+            }
+            if let Some(c) = self.ring(ahead).get_mut(at * n + k) {
+                *c = (i32::from(*c) + e).clamp(-32768, 32767) as i16;
+            }
+        };
+        match kernel {
+            Kernel::FloydSteinberg => {
+                let (right, below_back, below_on) = (error * 7 / 16, error * 3 / 16, error / 16);
+                spread(0, 1, right);
+                spread(1, -1, below_back);
+                spread(1, 1, below_on);
+                spread(1, 0, error - right - below_back - below_on);
+            }
+            Kernel::Atkinson => {
+                let e = error / 8;
+                spread(0, 1, e);
+                spread(0, 2, e);
+                spread(1, -1, e);
+                spread(1, 0, e);
+                spread(1, 1, e);
+                spread(2, 0, e);
+            }
+        }
+    }
+
+    /// The current row's colours, left to right (after [`finish_row`](Self::finish_row)).
+    pub fn levels(&self) -> impl Iterator<Item = C> + '_ {
+        let n = channels::<C>();
+        let len = self.width * n;
+        let k = self.row % self.kernel.rows();
+        let row = self.memory.get(k * len..(k + 1) * len).unwrap_or(&[]);
+        row.chunks_exact(n.max(1)).map(move |cells| {
+            let level = |i: usize| cells.get(i).map_or(0, |&v| v.clamp(0, 255) as u8);
+            C::from_levels([level(0), level(1), level(2)])
+        })
+    }
+
+    /// Moves to the next row: the current row's cells are cleared for the furthest one.
+    pub fn next_row(&mut self) {
+        self.ring(0).fill(0);
+        self.row += 1;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use embedded_graphics::pixelcolor::{BinaryColor, Gray2, Rgb565, RgbColor};
+
+    fn run<C: PanelColor>(kernel: Kernel, serpentine: bool, image: &[Vec<Rgb888>]) -> Vec<Vec<C>> {
+        let width = image[0].len();
+        let mut memory = vec![0i16; Diffusion::<C>::cells(kernel, width)];
+        let mut d = Diffusion::<C>::new(kernel, serpentine, width, &mut memory).unwrap();
+        image
+            .iter()
+            .map(|row| {
+                for (x, &c) in row.iter().enumerate().rev() {
+                    d.set(x, c);
+                }
+                d.finish_row();
+                let out = d.levels().collect();
+                d.next_row();
+                out
+            })
+            .collect()
+    }
+
+    #[test]
+    fn too_little_memory_is_an_error() {
+        let mut memory = [0i16; 11];
+        let e = Diffusion::<Gray2>::new(Kernel::FloydSteinberg, false, 6, &mut memory).unwrap_err();
+        assert_eq!(
+            e,
+            SetupError::TooLittleMemory {
+                needed: 12,
+                given: 11
+            }
+        );
+        assert!(e.to_string().contains("24 bytes"));
+        assert_eq!(Diffusion::<Rgb565>::cells(Kernel::Atkinson, 240) * 2, 4320);
+    }
+
+    #[test]
+    fn floyd_steinberg_keeps_a_flat_mean() {
+        // A flat grey on a one-bit panel: the share of pixels on is the grey's share.
+        for v in [16u8, 64, 100, 128, 200, 240] {
+            for serpentine in [false, true] {
+                let image = vec![vec![Rgb888::new(v, v, v); 64]; 64];
+                let out = run::<BinaryColor>(Kernel::FloydSteinberg, serpentine, &image);
+                let on = out.iter().flatten().filter(|c| c.is_on()).count() as f64;
+                let share = on / 4096.0;
+                // Errors leave at the right edge and the bottom: a few rows' worth.
+                assert!((share - f64::from(v) / 255.0).abs() < 0.01, "{v}: {share}");
+            }
+        }
+    }
+
+    #[test]
+    fn atkinson_keeps_flat_areas_clean_and_loses_extremes() {
+        // Atkinson drops a quarter of each error: near-black areas go wholly black.
+        let image = vec![vec![Rgb888::new(20, 20, 20); 32]; 32];
+        let out = run::<BinaryColor>(Kernel::Atkinson, false, &image);
+        let on = out.iter().flatten().filter(|c| c.is_on()).count();
+        let fs = run::<BinaryColor>(Kernel::FloydSteinberg, false, &image);
+        let fs_on = fs.iter().flatten().filter(|c| c.is_on()).count();
+        assert!(on < fs_on, "{on} {fs_on}");
+        let mid = vec![vec![Rgb888::new(128, 128, 128); 32]; 32];
+        let out = run::<BinaryColor>(Kernel::Atkinson, false, &mid);
+        let on = out.iter().flatten().filter(|c| c.is_on()).count();
+        assert!((450..=574).contains(&on), "{on}");
+    }
+
+    #[test]
+    fn serpentine_rows_alternate() {
+        // One row: the first pixel of a left-to-right row is decided by itself alone; in a
+        // right-to-left row the last is.
+        let mut image = vec![vec![Rgb888::new(100, 100, 100); 8]; 2];
+        image[1][7] = Rgb888::new(180, 180, 180);
+        let plain = run::<BinaryColor>(Kernel::FloydSteinberg, false, &image);
+        let snake = run::<BinaryColor>(Kernel::FloydSteinberg, true, &image);
+        assert_eq!(plain[0], snake[0]);
+        assert_ne!(plain[1], snake[1]);
+        // The snake's second row starts at its right end: 180 plus what it received.
+        assert!(snake[1][7].is_on());
+    }
+
+    #[test]
+    fn levels_are_in_range_for_extremes() {
+        let mut image = vec![vec![Rgb888::WHITE; 16]; 8];
+        for (y, row) in image.iter_mut().enumerate() {
+            for (x, c) in row.iter_mut().enumerate() {
+                if (x + y) % 3 == 0 {
+                    *c = Rgb888::BLACK;
+                }
+            }
+        }
+        for kernel in [Kernel::FloydSteinberg, Kernel::Atkinson] {
+            for row in run::<Rgb565>(kernel, true, &image) {
+                for c in row {
+                    assert!(c.r() <= 31 && c.g() <= 63 && c.b() <= 31);
+                }
+            }
+            // White and black are levels: nothing to spread, the image is exact.
+            let out = run::<Gray2>(kernel, false, &image);
+            for (row, want) in out.iter().zip(&image) {
+                for (c, w) in row.iter().zip(want) {
+                    assert_eq!(c.levels()[0], if *w == Rgb888::WHITE { 3 } else { 0 });
+                }
+            }
+        }
+    }
+}

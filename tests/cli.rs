@@ -241,11 +241,14 @@ fn render_progressive_writes_the_previews_and_the_same_image() {
 }
 
 #[test]
-fn render_writes_rgb565_truncated_and_dithered() {
-    use embedded_graphics::pixelcolor::{Rgb565, Rgb888, RgbColor};
+fn render_writes_a_panels_colours_truncated_and_dithered() {
+    use embedded_graphics::pixelcolor::{BinaryColor, Gray2, Rgb565, Rgb888, RgbColor};
     use embedded_graphics::prelude::{OriginDimensions, Point};
-    use microray::dither::{dither_rgb565, truncate_rgb565};
-    let dir = std::env::temp_dir().join(format!("microray-cli-rgb565-{}", std::process::id()));
+    use microray::dither::{
+        Diffusion, Kernel, Matrix, PanelColor, dither_ordered, dither_rgb565, shown,
+        truncate_rgb565,
+    };
+    let dir = std::env::temp_dir().join(format!("microray-cli-panel-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/vases.txt");
     let render = |name: &str, extra: &[&str]| {
@@ -263,25 +266,66 @@ fn render_writes_rgb565_truncated_and_dithered() {
         microray::host::read_ppm(&std::fs::read(&out).unwrap()).unwrap()
     };
     let plain = render("plain.ppm", &[]);
-    let truncated = render("truncated.ppm", &["--color", "rgb565"]);
-    let dithered = render("dithered.ppm", &["--dither", "rgb565"]);
     let width = plain.size().width as usize;
-    for (i, c) in plain.rgb().chunks(3).enumerate() {
-        let c = Rgb888::new(c[0], c[1], c[2]);
-        let p = Point::new((i % width) as i32, (i / width) as i32);
-        let expand = |c: Rgb565| {
-            let c = Rgb888::from(c);
-            [c.r(), c.g(), c.b()]
-        };
-        assert_eq!(
-            truncated.rgb()[3 * i..3 * i + 3],
-            expand(truncate_rgb565(c))
-        );
-        assert_eq!(
-            dithered.rgb()[3 * i..3 * i + 3],
-            expand(dither_rgb565(c, p))
-        );
+    let pixels: Vec<Rgb888> = plain
+        .rgb()
+        .chunks(3)
+        .map(|c| Rgb888::new(c[0], c[1], c[2]))
+        .collect();
+    let bytes = |c: Rgb888| [c.r(), c.g(), c.b()];
+    let check = |name: &str, extra: &[&str], expected: &dyn Fn(usize, Rgb888) -> Rgb888| {
+        let got = render(name, extra);
+        for (i, &c) in pixels.iter().enumerate() {
+            assert_eq!(
+                got.rgb()[3 * i..3 * i + 3],
+                bytes(expected(i, c)),
+                "{extra:?} pixel {i}"
+            );
+        }
+    };
+    let at = |i: usize| Point::new((i % width) as i32, (i / width) as i32);
+    check("truncated.ppm", &["--color", "rgb565"], &|_, c| {
+        Rgb888::from(truncate_rgb565(c))
+    });
+    check("bayer4.ppm", &["--dither", "rgb565:bayer4"], &|i, c| {
+        Rgb888::from(dither_rgb565(c, at(i)))
+    });
+    check("blue.ppm", &["--dither", "binary:blue-noise"], &|i, c| {
+        shown(dither_ordered::<BinaryColor>(c, at(i), Matrix::BlueNoise))
+    });
+    // Error diffusion: the library's, row after row.
+    fn diffused<C: PanelColor>(
+        pixels: &[Rgb888],
+        width: usize,
+        kernel: Kernel,
+        serpentine: bool,
+    ) -> Vec<Rgb888> {
+        let mut memory = vec![0i16; Diffusion::<C>::cells(kernel, width)];
+        let mut d = Diffusion::<C, _>::new(kernel, serpentine, width, &mut memory).unwrap();
+        let mut out = Vec::new();
+        for row in pixels.chunks(width) {
+            for (x, &c) in row.iter().enumerate() {
+                d.set(x, c);
+            }
+            d.finish_row();
+            out.extend(d.levels().map(shown));
+            d.next_row();
+        }
+        out
     }
+    // `--dither rgb565` without a method is the format's best: Floyd-Steinberg.
+    let fs = diffused::<Rgb565>(&pixels, width, Kernel::FloydSteinberg, false);
+    check(
+        "fs.ppm",
+        &["--dither", "rgb565", "--threads", "2"],
+        &|i, _| fs[i],
+    );
+    let atkinson = diffused::<Gray2>(&pixels, width, Kernel::Atkinson, true);
+    check(
+        "atkinson.ppm",
+        &["--dither", "gray2:atkinson-serpentine"],
+        &|i, _| atkinson[i],
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -268,6 +268,10 @@ fn combinations_it_cannot_honour_are_refused_with_a_message() {
             "leave out one of them",
         ),
         (
+            vec!["--dither", "rgb565", "--color", "gray4"],
+            "name different panels",
+        ),
+        (
             vec!["--format", "ppm"],
             "the name says png but --format says ppm",
         ),
@@ -280,16 +284,71 @@ fn combinations_it_cannot_honour_are_refused_with_a_message() {
         assert!(!Path::new(out).exists());
     }
     // What it can honour: dithering for an Rgb565 panel, said both ways, and the
-    // progressive order on the one thread it uses.
+    // progressive order on the one thread it uses, error-diffused too.
     for args in [
         vec!["--dither", "rgb565", "--color", "rgb565"],
         vec!["--progressive", "--threads", "1"],
+        vec!["--progressive", "--dither", "binary:atkinson"],
     ] {
         let mut all = vec!["render", &minimal, "-q", "-o", out];
         all.extend(&args);
         let run = Command::new(BINARY).args(&all).output().unwrap();
         assert!(run.status.success(), "{args:?}: {}", text(&run.stderr));
     }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn unknown_panel_formats_and_methods_are_refused_with_the_list() {
+    let dir = folder("panels");
+    let minimal = scene("minimal.txt");
+    let out = dir.join("out.png");
+    let out = out.to_str().unwrap();
+    for (args, says) in [
+        (
+            vec!["--dither", "rgb999"],
+            "unknown panel format; expected one of: binary gray2 gray4 gray8 rgb332 rgb444 rgb555 rgb565 rgb666",
+        ),
+        (
+            vec!["--color", "grey4"],
+            "expected one of: binary gray2 gray4 gray8 rgb332 rgb444 rgb555 rgb565 rgb666 rgb888",
+        ),
+        (
+            vec!["--dither", "binary:sharp"],
+            "unknown dither method; expected one of: bayer2 bayer4 bayer8 blue-noise floyd-steinberg atkinson",
+        ),
+        (
+            vec!["--dither", "gray2:bayer4-serpentine"],
+            "unknown dither method",
+        ),
+    ] {
+        let mut all = vec!["render", &minimal, "-q", "-o", out];
+        all.extend(&args);
+        let run = Command::new(BINARY).args(&all).output().unwrap();
+        assert!(!run.status.success(), "{args:?}");
+        assert!(text(&run.stderr).contains(says), "{}", text(&run.stderr));
+        assert!(!Path::new(out).exists());
+    }
+    // An animation redraws patches: error diffusion is refused there, by name.
+    let film = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bounce.txt");
+    let run = Command::new(BINARY)
+        .args([
+            "animate",
+            film.to_str().unwrap(),
+            "-q",
+            "-o",
+            out,
+            "--dither",
+            "binary:floyd-steinberg",
+        ])
+        .output()
+        .unwrap();
+    assert_one_line_failure(&run, "animate --dither binary:floyd-steinberg");
+    assert!(
+        text(&run.stderr).contains("use bayer2, bayer4, bayer8 or blue-noise"),
+        "{}",
+        text(&run.stderr)
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

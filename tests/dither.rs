@@ -364,7 +364,7 @@ fn every_method_beats_truncation_in_every_format_on_every_course_scene() {
     }
     let n = results.len() as f64;
     let mut table = format!(
-        "| format | truncated | {} | best |\n|---|---|{}---|\n",
+        "| format | truncated | {} | best | best ordered |\n|---|---|{}---|---|\n",
         names.join(" | "),
         "---|".repeat(names.len())
     );
@@ -374,21 +374,31 @@ fn every_method_beats_truncation_in_every_format_on_every_course_scene() {
         let best = (0..means.len())
             .min_by(|&a, &b| means[a].total_cmp(&means[b]))
             .unwrap();
+        let ordered = (0..means.len())
+            .filter(|&i| matches!(methods()[i], Method::Ordered(_)))
+            .min_by(|&a, &b| means[a].total_cmp(&means[b]))
+            .unwrap();
         let cells: Vec<String> = means.iter().map(|v| format!("{v:.3}")).collect();
         table += &format!(
-            "| {} | {:.3} | {} | {} |\n",
+            "| {} | {:.3} | {} | {} | {} |\n",
             format.name(),
             t / n,
             cells.join(" | "),
-            names[best]
+            names[best],
+            names[ordered]
         );
-        if format.best_method().name() != names[best] {
-            wrong_default.push(format!(
-                "{}: {} (best {})",
-                format.name(),
-                format.best_method().name(),
-                names[best]
-            ));
+        for (chosen, want, what) in [
+            (format.best_method(), best, "best"),
+            (format.best_ordered(), ordered, "best ordered"),
+        ] {
+            if chosen.name() != names[want] {
+                wrong_default.push(format!(
+                    "{}: {} ({what}: {})",
+                    format.name(),
+                    chosen.name(),
+                    names[want]
+                ));
+            }
         }
     }
     eprintln!(
@@ -434,7 +444,7 @@ fn the_wrapper_diffuses_what_the_renderer_draws() {
             // And again: after the last row the wrapper starts over at the top.
             render(&scene, &mut dither).unwrap();
             let mut by_hand = vec![0i16; Diffusion::<Gray2>::cells(kernel, 48)];
-            let mut d = Diffusion::<Gray2>::new(kernel, serpentine, 48, &mut by_hand).unwrap();
+            let mut d = Diffusion::<Gray2, _>::new(kernel, serpentine, 48, &mut by_hand).unwrap();
             let mut expected = Vec::new();
             for row in pixels.chunks(48) {
                 for (x, &c) in row.iter().enumerate() {
@@ -518,7 +528,7 @@ fn a_partial_area_is_diffused_on_its_own() {
     let mut whole = Framebuffer::new(Size::new(40, 30));
     render(&scene, &mut whole).unwrap();
     let mut by_hand = vec![0i16; Diffusion::<Gray4>::cells(Kernel::Atkinson, 20)];
-    let mut d = Diffusion::<Gray4>::new(Kernel::Atkinson, true, 20, &mut by_hand).unwrap();
+    let mut d = Diffusion::<Gray4, _>::new(Kernel::Atkinson, true, 20, &mut by_hand).unwrap();
     for y in 7..17 {
         for x in 5..25 {
             let i = (y * 40 + x) * 3;

@@ -67,7 +67,8 @@ impl core::fmt::Display for SetupError {
 /// The largest value, 255 in 16ths.
 const TOP: i32 = 255 * 16;
 
-/// An error diffusion into the format `C`, `width` pixels a row, in the caller's memory.
+/// An error diffusion into the format `C`, `width` pixels a row, its rows in `M` (the
+/// caller's: a `&mut [i16]` or `&mut [i16; N]`, or a `Vec<i16>` on a host).
 ///
 /// Feed a row with [`set`](Self::set) (any order within the row), then
 /// [`finish_row`](Self::finish_row) quantizes it and [`levels`](Self::levels) reads it out;
@@ -78,7 +79,7 @@ const TOP: i32 = 255 * 16;
 /// use microray::dither::{Diffusion, Kernel};
 ///
 /// let mut memory = [0i16; Diffusion::<BinaryColor>::cells(Kernel::FloydSteinberg, 4)];
-/// let mut d = Diffusion::<BinaryColor>::new(Kernel::FloydSteinberg, false, 4, &mut memory)?;
+/// let mut d = Diffusion::<BinaryColor, _>::new(Kernel::FloydSteinberg, false, 4, &mut memory)?;
 /// let mut on = 0;
 /// for _ in 0..4 {
 ///     for x in 0..4 {
@@ -92,36 +93,40 @@ const TOP: i32 = 255 * 16;
 /// # Ok::<(), microray::dither::SetupError>(())
 /// ```
 #[derive(Debug)]
-pub struct Diffusion<'m, C> {
+pub struct Diffusion<C, M = &'static mut [i16]> {
     kernel: Kernel,
     serpentine: bool,
     width: usize,
-    memory: &'m mut [i16],
+    /// Its first [`cells`](Self::cells) hold the rows.
+    memory: M,
     /// Rows finished since the start (the ring's position, and the serpentine's parity).
     row: usize,
     color: PhantomData<C>,
 }
 
-impl<'m, C: PanelColor> Diffusion<'m, C> {
+impl<C: PanelColor> Diffusion<C> {
     /// The `i16` cells of row memory `kernel` needs for rows of `width` pixels.
     pub const fn cells(kernel: Kernel, width: usize) -> usize {
         kernel.rows() * width * channels::<C>()
     }
+}
 
+impl<C: PanelColor, M: AsMut<[i16]> + AsRef<[i16]>> Diffusion<C, M> {
     /// A diffusion over rows of `width` pixels (serpentine: odd rows right to left), its
-    /// rows in `memory` (at least [`cells`](Self::cells); cleared here).
+    /// rows in `memory` (at least [`cells`](Diffusion::cells); cleared here).
     pub fn new(
         kernel: Kernel,
         serpentine: bool,
         width: usize,
-        memory: &'m mut [i16],
+        mut memory: M,
     ) -> Result<Self, SetupError> {
-        let needed = Self::cells(kernel, width);
-        let given = memory.len();
-        let memory = memory
+        let needed = Diffusion::<C>::cells(kernel, width);
+        let given = memory.as_ref().len();
+        memory
+            .as_mut()
             .get_mut(..needed)
-            .ok_or(SetupError::TooLittleMemory { needed, given })?;
-        memory.fill(0);
+            .ok_or(SetupError::TooLittleMemory { needed, given })?
+            .fill(0);
         Ok(Diffusion {
             kernel,
             serpentine,
@@ -144,7 +149,10 @@ impl<'m, C: PanelColor> Diffusion<'m, C> {
 
     /// Starts again at the top: no errors carried.
     pub fn reset(&mut self) {
-        self.memory.fill(0);
+        let needed = Diffusion::<C>::cells(self.kernel, self.width);
+        if let Some(rows) = self.memory.as_mut().get_mut(..needed) {
+            rows.fill(0);
+        }
         self.row = 0;
     }
 
@@ -153,6 +161,7 @@ impl<'m, C: PanelColor> Diffusion<'m, C> {
         let len = self.width * channels::<C>();
         let k = (self.row + ahead) % self.kernel.rows();
         self.memory
+            .as_mut()
             .get_mut(k * len..(k + 1) * len)
             .unwrap_or(&mut [])
     }
@@ -237,7 +246,11 @@ impl<'m, C: PanelColor> Diffusion<'m, C> {
         let n = channels::<C>();
         let len = self.width * n;
         let k = self.row % self.kernel.rows();
-        let row = self.memory.get(k * len..(k + 1) * len).unwrap_or(&[]);
+        let row = self
+            .memory
+            .as_ref()
+            .get(k * len..(k + 1) * len)
+            .unwrap_or(&[]);
         row.chunks_exact(n.max(1)).map(move |cells| {
             let level = |i: usize| cells.get(i).map_or(0, |&v| v.clamp(0, 255) as u8);
             C::from_levels([level(0), level(1), level(2)])
@@ -259,7 +272,7 @@ mod tests {
     fn run<C: PanelColor>(kernel: Kernel, serpentine: bool, image: &[Vec<Rgb888>]) -> Vec<Vec<C>> {
         let width = image[0].len();
         let mut memory = vec![0i16; Diffusion::<C>::cells(kernel, width)];
-        let mut d = Diffusion::<C>::new(kernel, serpentine, width, &mut memory).unwrap();
+        let mut d = Diffusion::<C, _>::new(kernel, serpentine, width, &mut memory).unwrap();
         image
             .iter()
             .map(|row| {
@@ -277,7 +290,8 @@ mod tests {
     #[test]
     fn too_little_memory_is_an_error() {
         let mut memory = [0i16; 11];
-        let e = Diffusion::<Gray2>::new(Kernel::FloydSteinberg, false, 6, &mut memory).unwrap_err();
+        let e =
+            Diffusion::<Gray2, _>::new(Kernel::FloydSteinberg, false, 6, &mut memory).unwrap_err();
         assert_eq!(
             e,
             SetupError::TooLittleMemory {

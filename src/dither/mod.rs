@@ -196,4 +196,14 @@ impl Format {
             Format::Gray8 | Format::Rgb666 => diffusion(true),
         }
     }
+
+    /// The ordered method with the lowest mean error (for an animation's patches, which
+    /// error diffusion cannot dither).
+    pub fn best_ordered(self) -> Method {
+        Method::Ordered(match self {
+            Format::Rgb555 | Format::Rgb565 => Matrix::Bayer8,
+            Format::Rgb666 => Matrix::Bayer2,
+            _ => Matrix::Bayer4,
+        })
+    }
 }

@@ -45,7 +45,7 @@ enum How<'m, C> {
     Truncate,
     Ordered(Matrix),
     Diffuse {
-        diffusion: Diffusion<'m, C>,
+        diffusion: Diffusion<C, &'m mut [i16]>,
         /// Pixels of the current row received so far.
         filled: usize,
     },
@@ -151,7 +151,7 @@ where
     fn diffuse(
         inner: &mut T,
         area: Rectangle,
-        diffusion: &mut Diffusion<'_, T::Color>,
+        diffusion: &mut Diffusion<T::Color, &mut [i16]>,
         filled: &mut usize,
         Pixel(p, c): Pixel<Rgb888>,
     ) -> Result<(), DitherError<T::Error>> {

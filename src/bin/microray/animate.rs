@@ -3,7 +3,7 @@
 
 use super::{
     Options, Stop, cannot_write, empty_scene, format_of, load_text, located, note, read, shown,
-    to_depth, warnings, write_whole,
+    warnings, write_whole,
 };
 use crate::output::{Format, is_stdio};
 use embedded_graphics::pixelcolor::Rgb888;
@@ -137,7 +137,7 @@ pub(crate) fn animate<S: Scalar>(
             // Only the region's bounding box is stored: the player keeps the rest.
             let (x, y, w, h) = bounding_box(&region, size);
             let mut part = cut(image.rgb(), size.width, (x, y, w, h));
-            to_depth(
+            crate::panel::to_panel(
                 &mut part,
                 w as usize,
                 (x as usize, y as usize),

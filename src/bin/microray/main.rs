@@ -6,6 +6,7 @@
 
 mod animate;
 mod output;
+mod panel;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -126,15 +127,17 @@ struct Look {
     /// against every object (the same image, for comparison).
     #[arg(long)]
     no_plan: bool,
-    /// The panel's colour depth: `rgb565` writes the picture as a 5-6-5 panel shows it
-    /// with the channels truncated, expanded back to 8 bits per channel.
-    #[arg(long, value_enum)]
-    color: Option<Depth>,
-    /// Dither to a panel's colour depth instead of truncating (`rgb565`: an ordered 4x4
-    /// dither, as `microray::dither::Rgb565Dither` draws it), expanded back to 8 bits
-    /// per channel; `--color rgb565` may be given too, `--color rgb888` may not.
-    #[arg(long, value_enum)]
-    dither: Option<DitherTo>,
+    /// A panel's colour format: the picture as that panel shows it with each channel
+    /// truncated to its top bits, expanded back to 8 bits a channel. FORMAT: binary gray2
+    /// gray4 gray8 rgb332 rgb444 rgb555 rgb565 rgb666 (or rgb888, the tracer's own).
+    #[arg(long, value_name = "FORMAT", value_parser = panel::parse_color)]
+    color: Option<panel::Color>,
+    /// Dither to a panel's colour format instead of truncating, expanded back to 8 bits a
+    /// channel. METHOD: bayer2 bayer4 bayer8 blue-noise floyd-steinberg atkinson (the last
+    /// two also with -serpentine); the default is the format's best in docs/dither.md.
+    /// `--color` may name the same format, not another.
+    #[arg(long, value_name = "FORMAT[:METHOD]", value_parser = panel::parse_dither)]
+    dither: Option<panel::PanelDither>,
     /// Anti-aliasing at fixed sample positions: N samples a pixel (a square: 1, 4, 9,
     /// 16, ... 256; 1 is the plain render), or `adaptive` (16 samples on the pixels that
     /// differ from a neighbour, the plain ray elsewhere; `adaptive:N` for N).
@@ -177,17 +180,6 @@ fn parse_aa(text: &str) -> Result<AaMode, String> {
 enum AaPattern {
     Rotated,
     Regular,
-}
-
-#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
-enum Depth {
-    Rgb888,
-    Rgb565,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum DitherTo {
-    Rgb565,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -327,7 +319,7 @@ fn run(command: &Command) -> Result<(), Stop> {
                     || std::thread::available_parallelism().map_or(1, |n| n.get()),
                     usize::from,
                 ),
-                ..options_of(look)?
+                ..options_of(look, false)?
             };
             match look.number {
                 Number::F64 => render::<f64>(scene, output, &options),
@@ -343,7 +335,7 @@ fn run(command: &Command) -> Result<(), Stop> {
             delay,
             size,
         } => {
-            let options = options_of(look)?;
+            let options = options_of(look, true)?;
             let film = animate::Film {
                 full: *full,
                 delay: *delay,
@@ -358,26 +350,71 @@ fn run(command: &Command) -> Result<(), Stop> {
     }
 }
 
+/// The colours `--dither` and `--color` ask for (`moving`: for an animation, whose frames
+/// are patches, so error diffusion is out and an unnamed method is the best ordered one).
+fn output_of(
+    dither: Option<panel::PanelDither>,
+    color: Option<panel::Color>,
+    moving: bool,
+) -> Result<panel::Output, Stop> {
+    use microray::dither::Method;
+    use panel::Output;
+    let refuse = |text: String| Err(Stop::Failed(format!("error: {text}")));
+    let Some(d) = dither else {
+        return Ok(match color {
+            Some(panel::Color::Panel(format)) => Output::Panel {
+                format,
+                method: None,
+            },
+            Some(panel::Color::Rgb888) | None => Output::Rgb888,
+        });
+    };
+    match color {
+        Some(panel::Color::Rgb888) => {
+            return refuse(format!(
+                "--dither {} reduces the picture to a panel's colours, which --color rgb888 \
+                 does not: leave out one of them",
+                d.format.name()
+            ));
+        }
+        Some(panel::Color::Panel(f)) if f != d.format => {
+            return refuse(format!(
+                "--dither {} and --color {} name different panels: leave out one of them",
+                d.format.name(),
+                f.name()
+            ));
+        }
+        _ => {}
+    }
+    let method = match (d.method, moving) {
+        (Some(m @ Method::Diffusion { .. }), true) => {
+            return refuse(format!(
+                "--dither {}:{}: error diffusion spreads each pixel's error over the rest \
+                 of the frame, and an animation redraws patches: use bayer2, bayer4, bayer8 \
+                 or blue-noise",
+                d.format.name(),
+                m.name()
+            ));
+        }
+        (Some(m), _) => m,
+        (None, true) => d.format.best_ordered(),
+        (None, false) => d.format.best_method(),
+    };
+    Ok(Output::Panel {
+        format: d.format,
+        method: Some(method),
+    })
+}
+
 /// The options `look` gives (one thread, no progressive order, the format by the name).
-fn options_of(look: &Look) -> Result<Options, Stop> {
+fn options_of(look: &Look, moving: bool) -> Result<Options, Stop> {
     let pattern = match look.aa_pattern {
         AaPattern::Rotated => Pattern::Rotated,
         AaPattern::Regular => Pattern::Regular,
     };
     // parse_aa let only squares through.
     let samples = Samples::new(look.aa.count, pattern).unwrap_or(Samples::ONE);
-    let depth = match (look.dither, look.color) {
-        (Some(DitherTo::Rgb565), None | Some(Depth::Rgb565)) => Output::Rgb565Dithered,
-        (Some(DitherTo::Rgb565), Some(Depth::Rgb888)) => {
-            return Err(Stop::Failed(
-                "error: --dither rgb565 reduces the picture to 5-6-5 bits, which \
-                 --color rgb888 does not: leave out one of them"
-                    .into(),
-            ));
-        }
-        (None, Some(Depth::Rgb565)) => Output::Rgb565,
-        (None, Some(Depth::Rgb888) | None) => Output::Rgb888,
-    };
+    let depth = output_of(look.dither, look.color, moving)?;
     Ok(Options {
         format: None,
         shading: match look.shade {
@@ -617,38 +654,9 @@ struct Options {
     quiet: bool,
     planned: bool,
     progressive: bool,
-    depth: Output,
+    depth: panel::Output,
     aa: Option<Antialias>,
     threads: usize,
-}
-
-/// The colour depth of the written picture.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Output {
-    Rgb888,
-    Rgb565,
-    Rgb565Dithered,
-}
-
-/// Rows of the picture (`width` pixels each from column `left`, `top` the first, three bytes
-/// a pixel) as a panel of `depth` shows them, expanded back to 8 bits per channel.
-fn to_depth(rgb: &mut [u8], width: usize, (left, top): (usize, usize), depth: Output) {
-    use embedded_graphics::pixelcolor::{Rgb565, Rgb888, RgbColor};
-    use embedded_graphics::prelude::Point;
-    use microray::dither::{dither_rgb565, truncate_rgb565};
-    if depth == Output::Rgb888 || width == 0 {
-        return;
-    }
-    for (i, c) in rgb.chunks_exact_mut(3).enumerate() {
-        let p = Point::new((left + i % width) as i32, (top + i / width) as i32);
-        let color = Rgb888::new(c[0], c[1], c[2]);
-        let panel: Rgb565 = match depth {
-            Output::Rgb565Dithered => dither_rgb565(color, p),
-            _ => truncate_rgb565(color),
-        };
-        let back = Rgb888::from(panel);
-        c.copy_from_slice(&[back.r(), back.g(), back.b()]);
-    }
 }
 
 /// The format of `output`: its extension's, which `--format` must agree with, else
@@ -752,7 +760,7 @@ fn render_progressive<S: Scalar>(
     renderer: &HostRenderer<'_, S>,
     output: &Path,
     format: Format,
-    depth: Output,
+    depth: panel::Output,
     name: &str,
 ) -> Result<(), Stop> {
     let size = renderer.size();
@@ -769,12 +777,12 @@ fn render_progressive<S: Scalar>(
             output.to_path_buf()
         };
         if *block > 1 || pass + 1 == microray::render::BLOCKS.len() {
-            if depth == Output::Rgb888 {
+            if depth == panel::Output::Rgb888 {
                 write_framebuffer(&image, format, &target)?;
             } else {
                 // The next pass draws on the picture itself: the panel's view is a copy.
                 let mut shown_image = image.clone();
-                to_depth(shown_image.rgb_mut(), size.width as usize, (0, 0), depth);
+                panel::Converter::new(depth, size.width as usize).rows(shown_image.rgb_mut());
                 write_framebuffer(&shown_image, format, &target)?;
             }
         }
@@ -844,7 +852,12 @@ fn render_rows<S: Scalar>(
         }
     };
     // Writing at an offset is a Unix call (Windows has one that moves the file's cursor).
-    if format == Format::Ppm && !output::writes_in_place(output) && cfg!(unix) {
+    // Error diffusion takes the rows in order: through the encoder's path.
+    if format == Format::Ppm
+        && !output::writes_in_place(output)
+        && cfg!(unix)
+        && !depth.needs_order()
+    {
         let staged = Staged::create(output).map_err(|e| cannot_write(output, e))?;
         let file = staged.file();
         let header = microray::host::ppm_header(size);
@@ -855,7 +868,7 @@ fn render_rows<S: Scalar>(
             options.aa,
             progress,
             |top, pixels: &mut [u8]| {
-                to_depth(pixels, width, (0, top), depth);
+                panel::to_panel(pixels, width, (0, top), depth);
                 write_at(file, pixels, header.len() + top * width * 3)
             },
         )
@@ -865,13 +878,14 @@ fn render_rows<S: Scalar>(
         write_whole(output, |out| {
             let mut image = Image::start(format, size, out).map_err(|e| cannot_write(output, e))?;
             let mut encoder = image.encoder().map_err(|e| cannot_write(output, e))?;
+            let mut converter = panel::Converter::new(depth, width);
             microray::host::render_in_order(
                 renderer,
                 options.threads,
                 options.aa,
                 progress,
-                |top, pixels: &mut [u8]| {
-                    to_depth(pixels, width, (0, top), depth);
+                |_, pixels: &mut [u8]| {
+                    converter.rows(pixels);
                     encoder.rows(pixels)
                 },
             )

@@ -182,16 +182,19 @@ pub(crate) fn to_panel(rgb: &mut [u8], width: usize, origin: (usize, usize), out
     with_format!(format, C => by_position::<C>(rgb, width, origin, matrix))
 }
 
+/// Converts the next rows of a picture, in place.
+type RowsFn = Box<dyn FnMut(&mut [u8]) + Send>;
+
 /// A conversion with state: error diffusion takes whole rows of the whole picture, top to
 /// bottom, from the first row on.
 pub(crate) struct Converter {
-    convert: Box<dyn FnMut(&mut [u8]) + Send>,
+    convert: RowsFn,
 }
 
 impl Converter {
     /// A conversion for `output` of a picture `width` pixels wide.
     pub(crate) fn new(output: Output, width: usize) -> Converter {
-        let convert: Box<dyn FnMut(&mut [u8]) + Send> = match output {
+        let convert: RowsFn = match output {
             Output::Panel {
                 format,
                 method: Some(Method::Diffusion { kernel, serpentine }),
@@ -217,7 +220,7 @@ fn diffusing<C: PanelColor + Send + 'static>(
     kernel: microray::dither::Kernel,
     serpentine: bool,
     width: usize,
-) -> Box<dyn FnMut(&mut [u8]) + Send> {
+) -> RowsFn {
     let memory = vec![0i16; Diffusion::<C>::cells(kernel, width)];
     // The memory is exactly what `cells` asks for: `new` cannot fail.
     let Ok(mut diffusion) = Diffusion::<C, Vec<i16>>::new(kernel, serpentine, width, memory) else {

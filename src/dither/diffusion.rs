@@ -64,6 +64,8 @@ impl core::fmt::Display for SetupError {
     }
 }
 
+impl core::error::Error for SetupError {}
+
 /// The largest value, 255 in 16ths.
 const TOP: i32 = 255 * 16;
 

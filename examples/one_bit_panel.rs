@@ -85,7 +85,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let mut oled = Oled {
             on: vec![false; (WIDTH * HEIGHT) as usize],
         };
-        let mut memory = vec![0i16; Diffusion::<BinaryColor>::cells(Kernel::Atkinson, WIDTH as usize)];
+        let mut memory =
+            vec![0i16; Diffusion::<BinaryColor>::cells(Kernel::Atkinson, WIDTH as usize)];
         {
             // The panel seen from the picture: its row 0 is the picture's row TOP.
             let mut moved = oled.translated(Point::new(0, -TOP));
@@ -106,12 +107,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             for x in 0..WIDTH {
                 let lit = oled.on[(y * WIDTH + x) as usize];
                 // An OLED's blue-white on black.
-                let color = if lit { Rgb888::new(200, 230, 255) } else { Rgb888::BLACK };
+                let color = if lit {
+                    Rgb888::new(200, 230, 255)
+                } else {
+                    Rgb888::BLACK
+                };
                 let square = Rectangle::new(
                     origin + Point::new((x * ZOOM) as i32, (y * ZOOM) as i32),
                     Size::new(ZOOM, ZOOM),
                 );
-                square.into_styled(PrimitiveStyle::with_fill(color)).draw(&mut sheet)?;
+                square
+                    .into_styled(PrimitiveStyle::with_fill(color))
+                    .draw(&mut sheet)?;
             }
         }
         let under = origin + Point::new(0, (HEIGHT * ZOOM) as i32 + 2);

@@ -7,6 +7,7 @@ use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
 use embedded_graphics::prelude::{DrawTarget, OriginDimensions, Pixel, Point, Size};
 use std::path::{Path, PathBuf};
 
+pub mod panel;
 #[cfg(all(test, feature = "animate", feature = "antialias"))]
 mod umbra_tests;
 

@@ -782,7 +782,7 @@ fn render_progressive<S: Scalar>(
             } else {
                 // The next pass draws on the picture itself: the panel's view is a copy.
                 let mut shown_image = image.clone();
-                panel::Converter::new(depth, size.width as usize).rows(shown_image.rgb_mut());
+                panel::converter(depth, size.width as usize).rows(shown_image.rgb_mut());
                 write_framebuffer(&shown_image, format, &target)?;
             }
         }
@@ -878,7 +878,7 @@ fn render_rows<S: Scalar>(
         write_whole(output, |out| {
             let mut image = Image::start(format, size, out).map_err(|e| cannot_write(output, e))?;
             let mut encoder = image.encoder().map_err(|e| cannot_write(output, e))?;
-            let mut converter = panel::Converter::new(depth, width);
+            let mut converter = panel::converter(depth, width);
             microray::host::render_in_order(
                 renderer,
                 options.threads,

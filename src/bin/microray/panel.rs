@@ -1,13 +1,8 @@
 //! `--color FORMAT` and `--dither FORMAT[:METHOD]`: the picture as a panel of that format
 //! shows it, expanded back to 8 bits a channel.
 
-use embedded_graphics::pixelcolor::{
-    BinaryColor, Gray2, Gray4, Gray8, Rgb555, Rgb565, Rgb666, Rgb888, RgbColor,
-};
-use embedded_graphics::prelude::Point;
-use microray::dither::{
-    Diffusion, Format, Matrix, Method, PanelColor, Rgb332, Rgb444, dither_ordered, shown, truncate,
-};
+use microray::dither::{Format, Method};
+use microray::host::panel::{PanelRows, by_position};
 
 /// The colours written: the tracer's, or a panel's.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -96,146 +91,18 @@ pub(crate) fn parse_dither(text: &str) -> Result<PanelDither, String> {
     Ok(PanelDither { format, method })
 }
 
-/// Calls `$body` with `$c` the colour type of `$format`.
-macro_rules! with_format {
-    ($format:expr, $c:ident => $body:expr) => {
-        match $format {
-            Format::Binary => {
-                type $c = BinaryColor;
-                $body
-            }
-            Format::Gray2 => {
-                type $c = Gray2;
-                $body
-            }
-            Format::Gray4 => {
-                type $c = Gray4;
-                $body
-            }
-            Format::Gray8 => {
-                type $c = Gray8;
-                $body
-            }
-            Format::Rgb332 => {
-                type $c = Rgb332;
-                $body
-            }
-            Format::Rgb444 => {
-                type $c = Rgb444;
-                $body
-            }
-            Format::Rgb555 => {
-                type $c = Rgb555;
-                $body
-            }
-            Format::Rgb565 => {
-                type $c = Rgb565;
-                $body
-            }
-            Format::Rgb666 => {
-                type $c = Rgb666;
-                $body
-            }
-        }
-    };
-}
-
-fn write<C: PanelColor>(bytes: &mut [u8], c: C) {
-    let s = shown(c);
-    bytes.copy_from_slice(&[s.r(), s.g(), s.b()]);
-}
-
-/// Rows of the picture (`width` pixels each from column `left`, `top` the first, three
-/// bytes a pixel) truncated or dithered by position: any rows, in any order.
-fn by_position<C: PanelColor>(
-    rgb: &mut [u8],
-    width: usize,
-    (left, top): (usize, usize),
-    matrix: Option<Matrix>,
-) {
-    for (i, c) in rgb.chunks_exact_mut(3).enumerate() {
-        let p = Point::new((left + i % width) as i32, (top + i / width) as i32);
-        let color = Rgb888::new(c[0], c[1], c[2]);
-        let panel: C = match matrix {
-            Some(m) => dither_ordered(color, p, m),
-            None => truncate(color),
-        };
-        write(c, panel);
-    }
-}
-
-/// The conversion of rows that may come in any order (not error diffusion): `None` when
-/// `output` needs them in order.
+/// Rows that may come in any order (not error diffusion's, which go through
+/// [`converter`]).
 pub(crate) fn to_panel(rgb: &mut [u8], width: usize, origin: (usize, usize), output: Output) {
-    if width == 0 {
-        return;
-    }
-    let Output::Panel { format, method } = output else {
-        return;
-    };
-    let matrix = match method {
-        None => None,
-        Some(Method::Ordered(m)) => Some(m),
-        // The callers send such rows through `Converter` instead.
-        Some(Method::Diffusion { .. }) => return,
-    };
-    with_format!(format, C => by_position::<C>(rgb, width, origin, matrix))
-}
-
-/// Converts the next rows of a picture, in place.
-type RowsFn = Box<dyn FnMut(&mut [u8]) + Send>;
-
-/// A conversion with state: error diffusion takes whole rows of the whole picture, top to
-/// bottom, from the first row on.
-pub(crate) struct Converter {
-    convert: RowsFn,
-}
-
-impl Converter {
-    /// A conversion for `output` of a picture `width` pixels wide.
-    pub(crate) fn new(output: Output, width: usize) -> Converter {
-        let convert: RowsFn = match output {
-            Output::Panel {
-                format,
-                method: Some(Method::Diffusion { kernel, serpentine }),
-            } => with_format!(format, C => diffusing::<C>(kernel, serpentine, width)),
-            _ => {
-                let mut top = 0;
-                Box::new(move |rows: &mut [u8]| {
-                    to_panel(rows, width, (0, top), output);
-                    top += rows.len() / (3 * width.max(1));
-                })
-            }
-        };
-        Converter { convert }
-    }
-
-    /// The next rows of the picture, in place.
-    pub(crate) fn rows(&mut self, rgb: &mut [u8]) {
-        (self.convert)(rgb)
+    if let Output::Panel { format, method } = output {
+        by_position(rgb, width, origin, format, method);
     }
 }
 
-fn diffusing<C: PanelColor + Send + 'static>(
-    kernel: microray::dither::Kernel,
-    serpentine: bool,
-    width: usize,
-) -> RowsFn {
-    let memory = vec![0i16; Diffusion::<C>::cells(kernel, width)];
-    // The memory is exactly what `cells` asks for: `new` cannot fail.
-    let Ok(mut diffusion) = Diffusion::<C, Vec<i16>>::new(kernel, serpentine, width, memory) else {
-        return Box::new(|_: &mut [u8]| {});
-    };
-    Box::new(move |rgb: &mut [u8]| {
-        for row in rgb.chunks_exact_mut(3 * width.max(1)) {
-            for (x, c) in row.chunks_exact(3).enumerate() {
-                diffusion.set(x, Rgb888::new(c[0], c[1], c[2]));
-            }
-            diffusion.finish_row();
-            for (c, level) in row.chunks_exact_mut(3).zip(diffusion.levels()) {
-                write(c, level);
-            }
-            diffusion.next_row();
-        }
-    })
+/// The conversion of a picture's rows in order, from the top.
+pub(crate) fn converter(output: Output, width: usize) -> PanelRows {
+    match output {
+        Output::Panel { format, method } => PanelRows::new(format, method, width),
+        Output::Rgb888 => PanelRows::new(Format::Rgb565, None, 0),
+    }
 }

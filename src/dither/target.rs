@@ -61,18 +61,23 @@ enum How<'m, C> {
 ///
 /// ```
 /// use embedded_graphics::{mock_display::MockDisplay, pixelcolor::BinaryColor, prelude::*};
+/// use embedded_graphics::primitives::Rectangle;
 /// use microray::dither::{Diffusion, Dither, Kernel};
 /// use microray::{parse::{no_textures, parse_scene}, render::render, Scene};
 ///
-/// let text = b"camera c { pixeldim 32 24 worlddim 8 6 viewpoint 4 3 4 }
+/// let text = b"camera c { pixeldim 64 48 worlddim 8 6 viewpoint 4 3 4 }
 ///              material grey { ambient 1 1 1 diffuse 3 3 3 }
 ///              plane floor { material grey normal 0 1 0 point 0 0 0 }
 ///              light sun { location 4 5 -2 emissivity 4 4 4 }";
-/// let scene: Scene<f32, 2, 1, 1, 0, 32> = parse_scene(text, no_textures)?;
+/// let scene: Scene<f32, 2, 1, 1, 0, 64> = parse_scene(text, no_textures)?;
+/// // A 64x64 panel showing the 64x48 picture: the diffusion covers the picture's area.
 /// let mut panel: MockDisplay<BinaryColor> = MockDisplay::new();
-/// let mut rows = [0i16; Diffusion::<BinaryColor>::cells(Kernel::FloydSteinberg, 32)];
-/// let mut dither = Dither::diffusing(&mut panel, Kernel::FloydSteinberg, false, &mut rows)?;
+/// let area = Rectangle::new(Point::zero(), Size::new(64, 48));
+/// let mut rows = [0i16; Diffusion::<BinaryColor>::cells(Kernel::FloydSteinberg, 64)];
+/// let mut dither =
+///     Dither::diffusing_area(&mut panel, area, Kernel::FloydSteinberg, false, &mut rows)?;
 /// render(&scene, &mut dither)?;
+/// assert_eq!(panel.get_pixel(Point::new(10, 47)), Some(BinaryColor::On)); // the lit floor
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 #[derive(Debug)]

@@ -51,6 +51,16 @@ fn main() {
     // `dither`: each scene is rendered plainly, then into an Rgb565 target through
     // `microray::dither::Rgb565Dither` (written back as 8-bit channels).
     let dither = env::var("MICRORAY_FW_PLAN").is_ok_and(|v| v == "dither");
+    // With the `panels` feature, the scenes (comma-separated) that are also rendered through
+    // `microray::dither::Dither` into other panel formats, by every method.
+    println!("cargo:rerun-if-env-changed=MICRORAY_FW_PANELS");
+    let panel_scenes: Vec<String> = env::var("MICRORAY_FW_PANELS")
+        .unwrap_or_default()
+        .split(',')
+        .filter(|s| !s.is_empty())
+        .map(|s| format!("{s:?}"))
+        .collect();
+    let panel_scenes = panel_scenes.join(", ");
     // `antialias`: each scene is rendered plainly, then anti-aliased with 4, 9 and 16
     // samples a pixel and adaptively (needs the firmware's `antialias` feature).
     let antialias = env::var("MICRORAY_FW_PLAN").is_ok_and(|v| v == "antialias");
@@ -206,6 +216,7 @@ fn main() {
          pub const COMPARE_PLAN: bool = {compare_plan};\n\
          pub const PROGRESSIVE: bool = {progressive};\n\
          pub const DITHER: bool = {dither};\n\
+         #[allow(dead_code)] pub const PANEL_SCENES: &[&str] = &[{panel_scenes}];\n\
          pub const ANTIALIAS: bool = {antialias};\n\
          #[allow(dead_code)] pub const ANIMATE: bool = {animate};\n\
          #[allow(dead_code)] pub const FRAMES: u16 = {frames};\n\

@@ -13,6 +13,8 @@
 mod aa_modes;
 #[cfg_attr(not(feature = "full"), allow(dead_code))]
 mod basic_scene;
+#[cfg(feature = "panels")]
+mod panels;
 #[cfg(feature = "full")]
 mod static_scene;
 
@@ -184,9 +186,9 @@ impl RowFile {
     /// every frame's file is opened here.
     fn create(name: &str, suffix: &str) -> Result<Self, &'static str> {
         let name = &name.as_bytes()[..name.len().min(40)];
-        let suffix = &suffix.as_bytes()[..suffix.len().min(16)];
+        let suffix = &suffix.as_bytes()[..suffix.len().min(40)];
         // Not an array: it would be cleared first.
-        let mut path = microray::heapless::Vec::<u8, 64>::new();
+        let mut path = microray::heapless::Vec::<u8, 96>::new();
         for part in [name, suffix, b".rgb", b"\0"] {
             let _ = path.extend_from_slice(part);
         }
@@ -244,6 +246,10 @@ fn render_scene(name: &str, scene: &FirmwareScene) -> Result<(), &'static str> {
     if DITHER {
         report_frame(name, "", Ok(()));
         stack::paint();
+        #[cfg(feature = "panels")]
+        if scenes::PANEL_SCENES.contains(&name) {
+            panels::render_all(name, scene)?;
+        }
         render_rgb565(name, scene, false)?;
         report_frame(name, "+rgb565", Ok(()));
         stack::paint();
@@ -431,41 +437,42 @@ mod animating {
     }
 }
 
-/// A draw target that writes each row of an Rgb565 panel, expanded back to RGB bytes, to
-/// a semihosting file. The colours are pulled (and so dithered) while counting; only the
-/// expansion and the writes are not counted.
-struct Rgb565File {
+/// A draw target that writes each row of a panel (Rgb565, or any format with the `panels`
+/// feature), expanded back to RGB bytes, to a semihosting file. The colours are pulled (and
+/// so dithered) while counting; only the expansion and the writes are not counted.
+struct PanelFile<C> {
     out: RowFile,
+    expand: fn(C) -> Rgb888,
 }
 
-impl OriginDimensions for Rgb565File {
+impl<C> OriginDimensions for PanelFile<C> {
     fn size(&self) -> Size {
         Size::new(u32::from(WIDTH), u32::from(HEIGHT))
     }
 }
 
-impl DrawTarget for Rgb565File {
-    type Color = Rgb565;
+impl<C: PixelColor> DrawTarget for PanelFile<C> {
+    type Color = C;
     type Error = ();
 
-    fn draw_iter<I: IntoIterator<Item = Pixel<Rgb565>>>(&mut self, _: I) -> Result<(), ()> {
+    fn draw_iter<I: IntoIterator<Item = Pixel<C>>>(&mut self, _: I) -> Result<(), ()> {
         Err(())
     }
 
-    fn fill_contiguous<I: IntoIterator<Item = Rgb565>>(
+    fn fill_contiguous<I: IntoIterator<Item = C>>(
         &mut self,
         area: &Rectangle,
         colors: I,
     ) -> Result<(), ()> {
-        let mut pulled = [Rgb565::BLACK; CHUNK];
+        let mut pulled = [None; CHUNK];
         let (mut n, mut total) = (0, 0);
         let mut result = Ok(());
-        let out = &self.out;
-        let flush = |pulled: &[Rgb565]| {
+        let (out, expand) = (&self.out, self.expand);
+        let flush = |pulled: &[Option<C>]| {
             microray_count_stop();
             let mut bytes = [0u8; 3 * CHUNK];
-            for (i, c) in pulled.iter().enumerate() {
-                let c = Rgb888::from(*c);
+            for (i, c) in pulled.iter().flatten().enumerate() {
+                let c = expand(*c);
                 bytes[3 * i..3 * i + 3].copy_from_slice(&[c.r(), c.g(), c.b()]);
             }
             let written = out.write(&bytes[..3 * pulled.len()]);
@@ -473,7 +480,7 @@ impl DrawTarget for Rgb565File {
             written
         };
         for c in colors {
-            pulled[n] = c;
+            pulled[n] = Some(c);
             n += 1;
             if n == CHUNK {
                 result = result.and(flush(&pulled));
@@ -497,7 +504,10 @@ impl DrawTarget for Rgb565File {
 fn render_rgb565(name: &str, scene: &FirmwareScene, dither: bool) -> Result<(), &'static str> {
     let suffix = if dither { "+dither" } else { "+rgb565" };
     let file = RowFile::create(name, suffix)?;
-    let mut panel = Rgb565File { out: file };
+    let mut panel = PanelFile::<Rgb565> {
+        out: file,
+        expand: Rgb888::from,
+    };
     let all = Rectangle::new(
         Point::zero(),
         Size::new(u32::from(WIDTH), u32::from(HEIGHT)),

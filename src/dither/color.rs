@@ -50,10 +50,22 @@ pub fn fine_values<C: PanelColor>(c: Rgb888) -> [u32; 3] {
 /// form (so the expansion is exactly its conversion to `Rgb888`).
 #[inline(always)]
 pub const fn expand(q: u8, max: u8) -> u8 {
-    if max == 255 || max == 0 {
-        return q;
+    expand_by(q, expand_scale(max))
+}
+
+/// `255 / max` in 24 fractional bits (0 for a channel a format lacks): one division per
+/// channel, not per pixel (the Cortex-M0 has no divider).
+pub(crate) const fn expand_scale(max: u8) -> u32 {
+    if max == 0 {
+        0
+    } else {
+        (255u32 << 24) / max as u32
     }
-    let scale = (255u32 << 24) / max as u32;
+}
+
+/// [`expand`] with the channel's [`expand_scale`] (exact for `q <= max`).
+#[inline(always)]
+pub(crate) const fn expand_by(q: u8, scale: u32) -> u8 {
     ((q as u32 * scale + (1 << 23)) >> 24) as u8
 }
 

@@ -15,7 +15,7 @@
 //! ends are dropped. In serpentine order odd rows run right to left with the kernel
 //! mirrored. All integer arithmetic: host and firmware agree bit for bit.
 
-use super::color::{PanelColor, channels, expand, fine_values};
+use super::color::{PanelColor, channels, expand_by, expand_scale, fine_values};
 use super::ordered::level;
 use core::marker::PhantomData;
 use embedded_graphics::pixelcolor::Rgb888;
@@ -66,6 +66,92 @@ impl core::fmt::Display for SetupError {
 
 impl core::error::Error for SetupError {}
 
+/// One channel of a row: where its cells are and how it quantizes.
+struct Channel {
+    k: usize,
+    n: usize,
+    width: usize,
+    backwards: bool,
+    max: u8,
+    scale: u32,
+}
+
+/// An error as a cell holds it.
+fn cell(e: i32) -> i16 {
+    e.clamp(-32768, 32767) as i16
+}
+
+impl Channel {
+    /// The cell of the `i`-th pixel in the row's order.
+    #[inline(always)]
+    fn at(&self, i: usize) -> usize {
+        let x = if self.backwards { self.width - 1 - i } else { i };
+        x * self.n + self.k
+    }
+
+    /// Quantizes the wanted value in `cell` (replaced by the level); the error.
+    #[inline(always)]
+    fn quantize(&self, cell: &mut i16, carried: i32) -> i32 {
+        let wanted = (i32::from(*cell) + carried).clamp(0, TOP);
+        // The nearest level: floor((w max + 2040) / 4080), division-free as the ordered
+        // dithers do it (w in 16ths is w 16 in 256ths).
+        let q = level((wanted as u32) << 4, self.max, 32640);
+        *cell = i16::from(q);
+        wanted - i32::from(expand_by(q, self.scale)) * 16
+    }
+
+    /// Floyd-Steinberg: the error to the right is carried in a register, and each cell of
+    /// the next row (which only this row reaches) is written once, when it is complete.
+    fn floyd_steinberg(&self, current: &mut [i16], next: &mut [i16]) {
+        // Next row: the sum so far for the previous pixel's cell and for this one's.
+        let (mut right, mut behind, mut here) = (0, 0, 0);
+        for i in 0..self.width {
+            let Some(c) = current.get_mut(self.at(i)) else {
+                return;
+            };
+            let e = self.quantize(c, right);
+            let (r, back, on) = (e * 7 / 16, e * 3 / 16, e / 16);
+            right = r;
+            if let Some(prev) = i.checked_sub(1).and_then(|p| next.get_mut(self.at(p))) {
+                *prev = cell(behind + back);
+            }
+            behind = here + (e - r - back - on);
+            here = on;
+        }
+        if let Some(last) = self.width.checked_sub(1).and_then(|l| next.get_mut(self.at(l))) {
+            *last = cell(behind);
+        }
+    }
+
+    /// Atkinson: an eighth to two on the right (in registers), three below (added: the row
+    /// before also reached that row) and one two rows down (written: this row is the first
+    /// to reach it).
+    fn atkinson(&self, current: &mut [i16], next: &mut [i16], after: &mut [i16]) {
+        let (mut right, mut right2) = (0, 0);
+        // The eighths of the last two pixels.
+        let (mut e1, mut e2) = (0, 0);
+        for i in 0..self.width {
+            let Some(c) = current.get_mut(self.at(i)) else {
+                return;
+            };
+            let e = self.quantize(c, right) / 8;
+            right = right2 + e;
+            right2 = e;
+            if let Some(prev) = i.checked_sub(1).and_then(|p| next.get_mut(self.at(p))) {
+                *prev = cell(i32::from(*prev) + e2 + e1 + e);
+            }
+            if let Some(below2) = after.get_mut(self.at(i)) {
+                *below2 = cell(e);
+            }
+            e2 = e1;
+            e1 = e;
+        }
+        if let Some(last) = self.width.checked_sub(1).and_then(|l| next.get_mut(self.at(l))) {
+            *last = cell(i32::from(*last) + e2 + e1);
+        }
+    }
+}
+
 /// The largest value, 255 in 16ths.
 const TOP: i32 = 255 * 16;
 
@@ -101,8 +187,10 @@ pub struct Diffusion<C, M = &'static mut [i16]> {
     width: usize,
     /// Its first [`cells`](Self::cells) hold the rows.
     memory: M,
-    /// Rows finished since the start (the ring's position, and the serpentine's parity).
+    /// Rows finished since the start (the serpentine's parity).
     row: usize,
+    /// The current row's place in the ring (`row` modulo the kernel's rows).
+    base: usize,
     color: PhantomData<C>,
 }
 
@@ -135,6 +223,7 @@ impl<C: PanelColor, M: AsMut<[i16]> + AsRef<[i16]>> Diffusion<C, M> {
             width,
             memory,
             row: 0,
+            base: 0,
             color: PhantomData,
         })
     }
@@ -156,12 +245,16 @@ impl<C: PanelColor, M: AsMut<[i16]> + AsRef<[i16]>> Diffusion<C, M> {
             rows.fill(0);
         }
         self.row = 0;
+        self.base = 0;
     }
 
     /// The cells of the row `ahead` rows below the current one.
     fn ring(&mut self, ahead: usize) -> &mut [i16] {
         let len = self.width * channels::<C>();
-        let k = (self.row + ahead) % self.kernel.rows();
+        let mut k = self.base + ahead;
+        if k >= self.kernel.rows() {
+            k -= self.kernel.rows();
+        }
         self.memory
             .as_mut()
             .get_mut(k * len..(k + 1) * len)
@@ -187,58 +280,36 @@ impl<C: PanelColor, M: AsMut<[i16]> + AsRef<[i16]>> Diffusion<C, M> {
     /// the levels.
     pub fn finish_row(&mut self) {
         let n = channels::<C>();
+        let len = self.width * n;
+        let rows = self.kernel.rows();
+        let (kernel, width, base) = (self.kernel, self.width, self.base);
         let backwards = self.serpentine && self.row % 2 == 1;
-        for k in 0..n {
-            for i in 0..self.width {
-                let x = if backwards { self.width - 1 - i } else { i };
-                self.quantize(x, k, backwards);
-            }
-        }
-    }
-
-    /// Quantizes channel `k` of pixel `x` and spreads its error.
-    #[inline(always)]
-    fn quantize(&mut self, x: usize, k: usize, backwards: bool) {
-        let n = channels::<C>();
-        let max = C::MAX.get(k).copied().unwrap_or(0);
-        let Some(cell) = self.ring(0).get_mut(x * n + k) else {
+        let Some(memory) = self.memory.as_mut().get_mut(..rows * len) else {
             return;
         };
-        let wanted = i32::from(*cell).clamp(0, TOP);
-        // The nearest level: floor((w max + 2040) / 4080), division-free as the ordered
-        // dithers do it (w in 16ths is w 16 in 256ths).
-        let q = level((wanted as u32) << 4, max, 32640);
-        let error = wanted - i32::from(expand(q, max)) * 16;
-        *cell = i16::from(q);
-        let step = if backwards { -1 } else { 1 };
-        let kernel = self.kernel;
-        let mut spread = |ahead: usize, dx: isize, e: i32| {
-            let Some(at) = x.checked_add_signed(dx * step) else {
-                return;
-            };
-            if at >= self.width {
-                return;
-            }
-            if let Some(c) = self.ring(ahead).get_mut(at * n + k) {
-                *c = (i32::from(*c) + e).clamp(-32768, 32767) as i16;
-            }
+        // The ring's rows in order from the current one, split once a row.
+        let mut parts = memory.chunks_exact_mut(len.max(1));
+        let mut ring = [parts.next(), parts.next(), parts.next()];
+        if let Some(used) = ring.get_mut(..rows) {
+            used.rotate_left(base);
+        }
+        let [Some(current), Some(next), after] = ring else {
+            return;
         };
-        match kernel {
-            Kernel::FloydSteinberg => {
-                let (right, below_back, below_on) = (error * 7 / 16, error * 3 / 16, error / 16);
-                spread(0, 1, right);
-                spread(1, -1, below_back);
-                spread(1, 1, below_on);
-                spread(1, 0, error - right - below_back - below_on);
-            }
-            Kernel::Atkinson => {
-                let e = error / 8;
-                spread(0, 1, e);
-                spread(0, 2, e);
-                spread(1, -1, e);
-                spread(1, 0, e);
-                spread(1, 1, e);
-                spread(2, 0, e);
+        let mut none = [0i16; 0];
+        let after = after.unwrap_or(&mut none);
+        for (k, &max) in C::MAX.iter().enumerate().take(n) {
+            let channel = Channel {
+                k,
+                n,
+                width,
+                backwards,
+                max,
+                scale: expand_scale(max),
+            };
+            match kernel {
+                Kernel::FloydSteinberg => channel.floyd_steinberg(current, next),
+                Kernel::Atkinson => channel.atkinson(current, next, after),
             }
         }
     }
@@ -263,6 +334,11 @@ impl<C: PanelColor, M: AsMut<[i16]> + AsRef<[i16]>> Diffusion<C, M> {
     pub fn next_row(&mut self) {
         self.ring(0).fill(0);
         self.row += 1;
+        self.base = if self.base + 1 == self.kernel.rows() {
+            0
+        } else {
+            self.base + 1
+        };
     }
 }
 

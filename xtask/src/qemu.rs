@@ -204,7 +204,8 @@ pub fn run(args: &[String]) -> Result<(), String> {
         return measurement.check();
     }
     if options.dither {
-        let table = dither_table(&measurement.rows, width, height);
+        let table = dither_table(&measurement.rows, width, height)
+            + &panel_table(&measurement.rows, width, height);
         println!("{table}");
         if options.only.is_empty() && options.build.is_none() {
             std::fs::write(root.join("docs/dither.md"), &table).map_err(|e| e.to_string())?;
@@ -722,6 +723,12 @@ fn build_firmware(
     if variant.plan == "antialias" {
         features.push_str(",antialias");
     }
+    let panels = if variant.plan == "dither" && variant.full {
+        features.push_str(",panels");
+        PANEL_SCENES.join(",")
+    } else {
+        String::new()
+    };
     let (only, plan) = (variant.only, variant.plan);
     let dir = root.join("firmware");
     let conformance = conformance
@@ -732,6 +739,7 @@ fn build_firmware(
         ("MICRORAY_FW_ONLY", only),
         ("MICRORAY_FW_PLAN", plan),
         ("MICRORAY_FW_FRAMES", frames),
+        ("MICRORAY_FW_PANELS", panels.as_str()),
     ];
     if !conformance.is_empty() {
         envs.push(("MICRORAY_CONFORMANCE", conformance.as_str()));
@@ -1009,10 +1017,12 @@ fn compare(
             .iter()
             .find(|(suffix, _)| name.ends_with(suffix))
             .map(|&(_, aa)| aa);
+        let panel = name.split_once("+panel-");
         let scene = ["+noplan", "+preview", "+progressive", "+dither", "+rgb565"]
             .iter()
             .chain(AA_MODES.iter().map(|(suffix, _)| suffix))
             .find_map(|suffix| name.strip_suffix(suffix))
+            .or(panel.map(|(scene, _)| scene))
             .unwrap_or(&name);
         let source = if scene == static_scene::NAME {
             Source::Static
@@ -1030,7 +1040,15 @@ fn compare(
             _ => host_render::<I16F16>(&source, width, height, aa),
         };
         // The dithered frame is the host's frame through the same dither, expanded back.
-        let host = if name.ends_with("+dither") {
+        let host = if let Some((_, way)) = panel {
+            let converted = panel_of(way).map(|(format, method)| {
+                host.map(|mut h| {
+                    microray::host::panel::whole(&mut h, usize::from(width), format, method);
+                    h
+                })
+            });
+            converted.unwrap_or_else(|| Err(format!("{name}: no such panel way")))
+        } else if name.ends_with("+dither") {
             host.map(|h| dithered(&h, width))
         } else if name.ends_with("+rgb565") {
             host.map(|h| truncated(&h))
@@ -1445,6 +1463,84 @@ pub(crate) fn antialias_table(rows: &[Row], width: u16, height: u16) -> String {
             base / pixels,
             cells.join(" | "),
             if identical { "yes" } else { "no" }
+        ));
+    }
+    out
+}
+
+/// The scenes `cargo xtask qemu --dither` also renders into other panel formats by every
+/// method (the firmware's `panels` feature): the costs hardly depend on the scene.
+const PANEL_SCENES: [&str; 2] = ["spec0", "translucent3"];
+
+/// `<format>-<method>` of a panel frame's name (`truncated` for no method).
+fn panel_of(
+    way: &str,
+) -> Option<(
+    microray::dither::Format,
+    Option<microray::dither::Method>,
+)> {
+    use microray::dither::{Format, Method};
+    let (format, method) = way.split_once('-')?;
+    let format = Format::from_name(format)?;
+    if method == "truncated" {
+        return Some((format, None));
+    }
+    Some((format, Some(Method::from_name(method)?)))
+}
+
+/// What each panel format and method costs over truncating into the same format.
+fn panel_table(rows: &[Row], width: u16, height: u16) -> String {
+    let pixels = f64::from(width) * f64::from(height);
+    let mut out = format!(
+        "\n## Every panel format and method\n\n\
+         The scenes {} again at {width}x{height}, each into a one-bit panel and an Rgb565 one \
+         through `microray::dither::Dither`, truncated and by every method (the diffusions \
+         left to right; their row memory on the stack). Instructions a pixel, mean over the \
+         scenes; cost: over truncating into the same format. Every frame is compared byte for \
+         byte with the host's frame converted by `microray::host::panel` (identical).\n\n\
+         | machine | number | format | method | instr/px | cost over truncated | identical |\n\
+         |---|---|---|---|---|---|---|\n",
+        PANEL_SCENES.join(" and ")
+    );
+    // (machine, number, format, method) -> instruction counts, all identical
+    let mut cells: BTreeMap<(&str, &str, String, String), (Vec<f64>, bool)> = BTreeMap::new();
+    let mut order = Vec::new();
+    for row in rows {
+        let Some((_, way)) = row.scene.split_once("+panel-") else {
+            continue;
+        };
+        let Some((format, method)) = way.split_once('-') else {
+            continue;
+        };
+        let key = (
+            row.machine,
+            row.number_name(),
+            format.to_string(),
+            method.to_string(),
+        );
+        if !cells.contains_key(&key) {
+            order.push(key.clone());
+        }
+        let cell = cells.entry(key).or_insert((Vec::new(), true));
+        cell.0.push(row.insns as f64 / pixels);
+        cell.1 &= matches!(row.identical, Ok(true));
+    }
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
+    for key in &order {
+        let (counts, identical) = &cells[key];
+        let base = cells
+            .get(&(key.0, key.1, key.2.clone(), "truncated".to_string()))
+            .map(|(c, _)| mean(c))
+            .unwrap_or(f64::NAN);
+        let m = mean(counts);
+        out.push_str(&format!(
+            "| {} | {} | {} | {} | {m:.0} | {:+.1} | {} |\n",
+            key.0,
+            key.1,
+            key.2,
+            key.3,
+            m - base,
+            if *identical { "yes" } else { "no" }
         ));
     }
     out

@@ -82,11 +82,15 @@ fn cell(e: i32) -> i16 {
 }
 
 impl Channel {
-    /// The cell of the `i`-th pixel in the row's order.
+    /// The cells of the row's pixels in the row's order: the first, and the step.
     #[inline(always)]
-    fn at(&self, i: usize) -> usize {
-        let x = if self.backwards { self.width - 1 - i } else { i };
-        x * self.n + self.k
+    fn cells(&self) -> (usize, isize) {
+        let stride = self.n as isize;
+        if self.backwards {
+            ((self.width.saturating_sub(1)) * self.n + self.k, -stride)
+        } else {
+            (self.k, stride)
+        }
     }
 
     /// Quantizes the wanted value in `cell` (replaced by the level); the error.
@@ -105,20 +109,24 @@ impl Channel {
     fn floyd_steinberg(&self, current: &mut [i16], next: &mut [i16]) {
         // Next row: the sum so far for the previous pixel's cell and for this one's.
         let (mut right, mut behind, mut here) = (0, 0, 0);
-        for i in 0..self.width {
-            let Some(c) = current.get_mut(self.at(i)) else {
+        let (mut at, step) = self.cells();
+        let mut previous = None;
+        for _ in 0..self.width {
+            let Some(c) = current.get_mut(at) else {
                 return;
             };
             let e = self.quantize(c, right);
             let (r, back, on) = (e * 7 / 16, e * 3 / 16, e / 16);
             right = r;
-            if let Some(prev) = i.checked_sub(1).and_then(|p| next.get_mut(self.at(p))) {
+            if let Some(prev) = previous.and_then(|p| next.get_mut(p)) {
                 *prev = cell(behind + back);
             }
             behind = here + (e - r - back - on);
             here = on;
+            previous = Some(at);
+            at = at.wrapping_add_signed(step);
         }
-        if let Some(last) = self.width.checked_sub(1).and_then(|l| next.get_mut(self.at(l))) {
+        if let Some(last) = previous.and_then(|p| next.get_mut(p)) {
             *last = cell(behind);
         }
     }
@@ -130,23 +138,27 @@ impl Channel {
         let (mut right, mut right2) = (0, 0);
         // The eighths of the last two pixels.
         let (mut e1, mut e2) = (0, 0);
-        for i in 0..self.width {
-            let Some(c) = current.get_mut(self.at(i)) else {
+        let (mut at, step) = self.cells();
+        let mut previous = None;
+        for _ in 0..self.width {
+            let Some(c) = current.get_mut(at) else {
                 return;
             };
             let e = self.quantize(c, right) / 8;
             right = right2 + e;
             right2 = e;
-            if let Some(prev) = i.checked_sub(1).and_then(|p| next.get_mut(self.at(p))) {
+            if let Some(prev) = previous.and_then(|p| next.get_mut(p)) {
                 *prev = cell(i32::from(*prev) + e2 + e1 + e);
             }
-            if let Some(below2) = after.get_mut(self.at(i)) {
+            if let Some(below2) = after.get_mut(at) {
                 *below2 = cell(e);
             }
             e2 = e1;
             e1 = e;
+            previous = Some(at);
+            at = at.wrapping_add_signed(step);
         }
-        if let Some(last) = self.width.checked_sub(1).and_then(|l| next.get_mut(self.at(l))) {
+        if let Some(last) = previous.and_then(|p| next.get_mut(p)) {
             *last = cell(i32::from(*last) + e2 + e1);
         }
     }
@@ -274,6 +286,23 @@ impl<C: PanelColor, M: AsMut<[i16]> + AsRef<[i16]>> Diffusion<C, M> {
                 *cell = wanted.clamp(i32::from(i16::MIN), i32::from(i16::MAX)) as i16;
             }
         }
+    }
+
+    /// [`set`](Self::set) for pixels `0, 1, ...` of the row from `colors` (those past the
+    /// width are left); the pixels set.
+    #[inline]
+    pub fn set_row(&mut self, colors: impl IntoIterator<Item = Rgb888>) -> usize {
+        let n = channels::<C>();
+        let mut count = 0;
+        for (cells, c) in self.ring(0).chunks_exact_mut(n).zip(colors) {
+            let values = fine_values::<C>(c);
+            for (cell, v) in cells.iter_mut().zip(values) {
+                let wanted = i32::from(*cell) + (v >> 4) as i32;
+                *cell = wanted.clamp(i32::from(i16::MIN), i32::from(i16::MAX)) as i16;
+            }
+            count += 1;
+        }
+        count
     }
 
     /// Quantizes the current row, in its order, spreading the errors; its cells then hold

@@ -173,9 +173,20 @@ where
         }
         diffusion.set(p.x.wrapping_sub(area.top_left.x) as usize, c);
         *filled += 1;
+        Self::row_out(inner, area, diffusion, filled)
+    }
+
+    /// The current row quantized and sent, once all its pixels are in.
+    fn row_out(
+        inner: &mut T,
+        area: Rectangle,
+        diffusion: &mut Diffusion<T::Color, &mut [i16]>,
+        filled: &mut usize,
+    ) -> Result<(), DitherError<T::Error>> {
         if *filled < diffusion.width() {
             return Ok(());
         }
+        let row = area.top_left.y.saturating_add(diffusion.rows_done() as i32);
         diffusion.finish_row();
         let line = Rectangle::new(
             Point::new(area.top_left.x, row),
@@ -262,9 +273,22 @@ where
                     .fill_contiguous(area, pixels)
                     .map_err(DitherError::Target)
             }
-            How::Diffuse { .. } => {
-                let pixels = area.points().zip(colors).map(|(p, c)| Pixel(p, c));
-                self.pass(pixels)
+            How::Diffuse { diffusion, filled } => {
+                // A whole row of the area, the one expected (the renderer's case): at once.
+                let row = self.area.top_left.y + diffusion.rows_done() as i32;
+                let whole_row = area.size.height == 1
+                    && area.top_left == Point::new(self.area.top_left.x, row)
+                    && area.size.width == self.area.size.width
+                    && *filled == 0;
+                if !whole_row {
+                    let pixels = area.points().zip(colors).map(|(p, c)| Pixel(p, c));
+                    return self.pass(pixels);
+                }
+                let How::Diffuse { diffusion, filled } = &mut self.how else {
+                    return Ok(());
+                };
+                *filled = diffusion.set_row(colors);
+                Self::row_out(self.inner, self.area, diffusion, filled)
             }
         }
     }

@@ -1473,12 +1473,7 @@ pub(crate) fn antialias_table(rows: &[Row], width: u16, height: u16) -> String {
 const PANEL_SCENES: [&str; 2] = ["spec0", "translucent3"];
 
 /// `<format>-<method>` of a panel frame's name (`truncated` for no method).
-fn panel_of(
-    way: &str,
-) -> Option<(
-    microray::dither::Format,
-    Option<microray::dither::Method>,
-)> {
+fn panel_of(way: &str) -> Option<(microray::dither::Format, Option<microray::dither::Method>)> {
     use microray::dither::{Format, Method};
     let (format, method) = way.split_once('-')?;
     let format = Format::from_name(format)?;

@@ -1483,6 +1483,9 @@ fn panel_of(way: &str) -> Option<(microray::dither::Format, Option<microray::dit
     Some((format, Some(Method::from_name(method)?)))
 }
 
+/// A panel frame's machine, number type, format and method.
+type PanelKey<'r> = (&'r str, &'r str, String, String);
+
 /// What each panel format and method costs over truncating into the same format.
 fn panel_table(rows: &[Row], width: u16, height: u16) -> String {
     let pixels = f64::from(width) * f64::from(height);
@@ -1498,7 +1501,7 @@ fn panel_table(rows: &[Row], width: u16, height: u16) -> String {
         PANEL_SCENES.join(" and ")
     );
     // (machine, number, format, method) -> instruction counts, all identical
-    let mut cells: BTreeMap<(&str, &str, String, String), (Vec<f64>, bool)> = BTreeMap::new();
+    let mut cells: BTreeMap<PanelKey<'_>, (Vec<f64>, bool)> = BTreeMap::new();
     let mut order = Vec::new();
     for row in rows {
         let Some((_, way)) = row.scene.split_once("+panel-") else {

@@ -43,6 +43,7 @@
 //! | `animate` | in `full` | moving pictures: objects, lights and materials replaced between frames ([`Scene::replace_object`] and its kin) and the screen region each change can touch ([`region`]), so a frame re-traces only that, byte for byte the full frame |
 //! | `geometry-f32` | no | the render plan's bounds and a moving picture's region worked out in `f32`, not `f64` ([`scalar::geometry`]): for a single-precision float unit (Cortex-M4F), where `f64` is software; the same images |
 //! | `warnings` | in `full` | warnings about ill-posed scenes ([`Scene::warnings`], [`warning`]): coincident surfaces, a light on a surface or at the eye, a surface through the eye, the eye inside an object |
+//! | `dither` | in `std` | dithering into any panel format (`dither::Dither`): one-bit, grey and Rgb332 to Rgb666 panels, ordered (Bayer, blue noise) or error-diffused (Floyd-Steinberg, Atkinson); Rgb565's Bayer dither ([`dither::Rgb565Dither`]) is there without it |
 //! | `sdl` | no | `examples/simulator.rs` opens an SDL window |
 //!
 //! Without default features the crate is `#![no_std]`, has no `alloc`, and builds for

@@ -17,6 +17,8 @@ fn main() {
     println!("cargo:rustc-link-search={}", out.display());
     println!("cargo:rerun-if-changed=memory.x");
     println!("cargo:rerun-if-env-changed=MICRORAY_PICO_SCENE");
+    // The OLED example's dither method (src/bin/oled.rs reads it with `option_env!`).
+    println!("cargo:rerun-if-env-changed=MICRORAY_OLED_DITHER");
 
     let scene = env::var_os("MICRORAY_PICO_SCENE")
         .map(PathBuf::from)

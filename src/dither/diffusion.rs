@@ -9,7 +9,7 @@
 //! Values are kept in 16ths of an 8-bit step (so grey keeps a 16th of the luma's fraction).
 //! A pixel's wanted value (its colour plus the errors it received) is clamped to the panel's
 //! range, the nearest level is taken, and the error against that level as the panel shows it
-//! (`round(255 q / max)`, [`expand`]) is spread: Floyd-Steinberg's 7, 3, 5, 1 sixteenths
+//! (`round(255 q / max)`, [`expand`](super::color::expand)) is spread: Floyd-Steinberg's 7, 3, 5, 1 sixteenths
 //! (the rounding remainder to the pixel below, so the whole error moves on), or Atkinson's
 //! six eighths (a quarter is dropped: sharper, lighter shadows). Errors leaving the row's
 //! ends are dropped. In serpentine order odd rows run right to left with the kernel

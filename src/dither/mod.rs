@@ -2,21 +2,21 @@
 //! dithered.
 //!
 //! - [`Rgb565Dither`] (always built): Rgb565 panels, truncated or with a 4x4 Bayer dither.
-//! - With the `dither` feature, [`Dither`] takes any [`PanelColor`] format: one-bit
+//! - With the `dither` feature, `Dither` takes any `PanelColor` format: one-bit
 //!   (`BinaryColor`: SSD1306 and SH1106 OLEDs, Sharp memory LCDs), grey (`Gray2`, `Gray4`,
 //!   `Gray8`: e-paper), and `Rgb332`, `Rgb444` (defined here), `Rgb555`, `Rgb565`, `Rgb666`.
-//!   Grey is BT.601 luma ([`color`]). The methods:
+//!   Grey is BT.601 luma (`color`). The methods:
 //!
-//! | [`Method`] | memory | drawing order | |
+//! | `Method` | memory | drawing order | |
 //! |---|---|---|---|
 //! | `bayer2`, `bayer4`, `bayer8` | none | any | a regular cross-hatch |
 //! | `blue-noise` | none (1 KiB table in flash) | any | no pattern, fine grain |
 //! | `floyd-steinberg` | 2 rows of errors | rows, top to bottom | the closest local means |
 //! | `atkinson` | 3 rows of errors | rows, top to bottom | crisp, loses 1/4 of each error |
 //!
-//! Error diffusion's memory is the caller's ([`Diffusion::cells`]); ordered methods work in
+//! Error diffusion's memory is the caller's (`Diffusion::cells`); ordered methods work in
 //! the progressive order and in an animation's patches, error diffusion refuses them
-//! ([`DitherError::OutOfOrder`]). Everything is integer arithmetic: host and firmware
+//! (`DitherError::OutOfOrder`). Everything is integer arithmetic: host and firmware
 //! frames agree bit for bit. docs/dither.md in the repository measures each method
 //! against truncation on the course's scenes, and prices them in instructions a pixel.
 

@@ -10,6 +10,12 @@
 // and prints one JSON line: the cycles at the LED's edges and what the stream held. With
 // CYCLES.out, also the cycles spent at each flash address while the LED is lit (a float64
 // per halfword of flash, for the profile of tracing against output).
+//
+// With MICRORAY_PANEL=ssd1306 the panel is instead a 128x64 one-bit SSD1306 at 0x3C on I2C0
+// (firmware/pico/src/bin/oled.rs): its command and data stream is decoded (horizontal and
+// page addressing, the column and page windows) into its display RAM, and PANEL.out gets
+// one byte a pixel, 0 or 1, rows from the top, as the driver lays the picture out (column x,
+// page y / 8, bit y % 8).
 import { readFileSync, writeFileSync } from 'node:fs';
 import { Simulator } from 'rp2040js';
 
@@ -106,6 +112,71 @@ mcu.spi[0].onTransmit = (value) => {
   }
 };
 
+// The SSD1306: its display RAM, pages of 128 columns, each byte 8 rows (bit 0 the top).
+const oled = process.env.MICRORAY_PANEL === 'ssd1306';
+const [OLED_W, OLED_PAGES, OLED_ADDRESS] = [128, 8, 0x3c];
+const gddram = new Uint8Array(OLED_W * OLED_PAGES);
+const i2cStream = { transactions: 0, commands: 0, data: 0, unknown: 0 };
+if (oled) {
+  // Argument bytes of each command with any (the rest take none).
+  const argCount = (c) => {
+    if ([0x20, 0x81, 0x8d, 0xa8, 0xd3, 0xd5, 0xd9, 0xda, 0xdb].includes(c)) return 1;
+    if (c === 0x21 || c === 0x22) return 2;
+    return 0;
+  };
+  let mode = 2; // page addressing, the controller's reset state
+  let [col, colStart, colEnd] = [0, 0, OLED_W - 1];
+  let [page, pageStart, pageEnd] = [0, 0, OLED_PAGES - 1];
+  let addressed = false;
+  let control = -1; // the transaction's control byte: 0x00 commands, 0x40 data
+  let command = [];
+  const i2c = mcu.i2c[0];
+  i2c.onStart = () => i2c.completeStart();
+  i2c.onConnect = (address) => {
+    addressed = address === OLED_ADDRESS;
+    control = -1;
+    if (addressed) i2cStream.transactions++;
+    i2c.completeConnect(addressed);
+  };
+  i2c.onReadByte = () => i2c.completeRead(0xff);
+  i2c.onStop = () => i2c.completeStop();
+  const run = (c) => {
+    const [op, a, b] = c;
+    i2cStream.commands++;
+    if (op === 0x20) mode = a & 3;
+    else if (op === 0x21) [colStart, colEnd, col] = [a & 0x7f, b & 0x7f, a & 0x7f];
+    else if (op === 0x22) [pageStart, pageEnd, page] = [a & 7, b & 7, a & 7];
+    else if (op >= 0xb0 && op <= 0xb7) page = op & 7;
+    else if (op <= 0x0f) col = (col & 0xf0) | op;
+    else if (op >= 0x10 && op <= 0x1f) col = (col & 0x0f) | ((op & 0x0f) << 4);
+  };
+  i2c.onWriteByte = (value) => {
+    i2c.completeWrite(addressed);
+    if (!addressed) return;
+    if (control < 0) {
+      control = value;
+      return;
+    }
+    if (control === 0x00 || control === 0x80) {
+      command.push(value);
+      if (command.length === 1 + argCount(command[0])) {
+        run(command);
+        command = [];
+      }
+    } else if (control === 0x40) {
+      i2cStream.data++;
+      gddram[page * OLED_W + col] = value;
+      if (col < colEnd) col++;
+      else {
+        col = colStart;
+        if (mode === 0) page = page < pageEnd ? page + 1 : pageStart;
+      }
+    } else {
+      i2cStream.unknown++;
+    }
+  };
+}
+
 // The LED's edges, in cycles.
 // (The listener hears every change of the pin's state, its set-up too: only the output's
 // rises and falls count.)
@@ -142,7 +213,17 @@ while (mcu.core.cycles < maxCycles) {
 }
 if (profile) writeFileSync(cyclesPath, new Uint8Array(profile.buffer));
 if (process.env.PICO_DEBUG) console.error(`stopped: pc=0x${mcu.core.PC.toString(16)} waiting=${mcu.core.waiting} next=${clock.nanosToNextAlarm}`);
-writeFileSync(outPath, panel);
+if (oled) {
+  const pixels = new Uint8Array(OLED_W * OLED_PAGES * 8);
+  for (let y = 0; y < OLED_PAGES * 8; y++) {
+    for (let x = 0; x < OLED_W; x++) {
+      pixels[y * OLED_W + x] = (gddram[(y >> 3) * OLED_W + x] >> (y & 7)) & 1;
+    }
+  }
+  writeFileSync(outPath, pixels);
+} else {
+  writeFileSync(outPath, panel);
+}
 const on = edges.find((e) => e.high);
 const off = edges.find((e) => !e.high && on && e.cycles > on.cycles);
 console.log(
@@ -151,6 +232,6 @@ console.log(
     led_off: off?.cycles ?? null,
     render_cycles: on && off ? off.cycles - on.cycles : null,
     total_cycles: mcu.core.cycles,
-    ...stream,
+    ...(oled ? i2cStream : stream),
   }),
 );

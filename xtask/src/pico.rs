@@ -86,6 +86,7 @@ pub fn run(args: &[String]) -> Result<(), String> {
     let mut top = 0;
     let mut build = Build::DEFAULT;
     let mut hardware = false;
+    let mut oled: Option<Vec<String>> = None;
     let mut rest = args.iter();
     while let Some(arg) = rest.next() {
         match arg.as_str() {
@@ -104,6 +105,16 @@ pub fn run(args: &[String]) -> Result<(), String> {
             },
             "--no-intrinsics" => build.intrinsics = false,
             "--hardware" => hardware = true,
+            "--oled" => oled = Some(OLED_METHODS.iter().map(|m| m.to_string()).collect()),
+            "--methods" => {
+                oled = Some(
+                    rest.next()
+                        .ok_or("--methods takes METHOD[,METHOD...]")?
+                        .split(',')
+                        .map(str::to_string)
+                        .collect(),
+                )
+            }
             "--functions" => {
                 top = rest
                     .next()
@@ -120,6 +131,15 @@ pub fn run(args: &[String]) -> Result<(), String> {
     let work = root.join("target/pico-emulator");
     if hardware {
         return hardware_table(&root, &harness, &bootrom, &work, &files);
+    }
+    if let Some(methods) = oled {
+        let only_showcase = scenes == default_scenes();
+        let scenes = if only_showcase {
+            vec!["showcase".to_string()]
+        } else {
+            scenes
+        };
+        return oled_table(&root, &harness, &bootrom, &work, &files, &scenes, &methods);
     }
     let mut runs = Vec::new();
     for scene in &scenes {
@@ -223,25 +243,12 @@ fn run_scene(
     let elf = firmware.join("target/thumbv6m-none-eabi/release/microray-pico");
     let panel_file = work.join(format!("{scene}.panel"));
     let cycles_file = work.join(format!("{scene}.cycles"));
-    let output = Command::new("node")
-        .arg(harness.join("run.mjs"))
+    let mut node = Command::new("node");
+    node.arg(harness.join("run.mjs"))
         .args([&elf, bootrom, &panel_file])
         .arg("20000000000")
-        .arg(&cycles_file)
-        .current_dir(harness)
-        .output()
-        .map_err(|e| format!("node: {e}"))?;
-    if !output.status.success() {
-        return Err(format!(
-            "{scene}: the emulator failed: {}",
-            String::from_utf8_lossy(&output.stderr)
-        ));
-    }
-    let report: serde_json::Value = serde_json::from_slice(&output.stdout)
-        .map_err(|e| format!("{scene}: the emulator's report: {e}"))?;
-    let render_cycles = report["render_cycles"]
-        .as_u64()
-        .ok_or_else(|| format!("{scene}: the LED never lit and went out: {report}"))?;
+        .arg(&cycles_file);
+    let render_cycles = emulate(harness, &mut node, scene)?;
     let panel = std::fs::read(&panel_file).map_err(|e| e.to_string())?;
     let expected = if build.f32 {
         expected_panel::<f32>(path)?
@@ -262,6 +269,26 @@ fn run_scene(
         output_cycles,
         functions,
     })
+}
+
+/// Runs the harness (`node run.mjs ...`, its arguments given) in `harness`: the cycles
+/// between the LED's edges.
+fn emulate(harness: &Path, node: &mut Command, what: &str) -> Result<u64, String> {
+    let output = node
+        .current_dir(harness)
+        .output()
+        .map_err(|e| format!("node: {e}"))?;
+    if !output.status.success() {
+        return Err(format!(
+            "{what}: the emulator failed: {}",
+            String::from_utf8_lossy(&output.stderr)
+        ));
+    }
+    let report: serde_json::Value = serde_json::from_slice(&output.stdout)
+        .map_err(|e| format!("{what}: the emulator's report: {e}"))?;
+    report["render_cycles"]
+        .as_u64()
+        .ok_or_else(|| format!("{what}: the LED never lit and went out: {report}"))
 }
 
 /// The panel the host's render makes: black, the scene's 240x180 image in its middle, each
@@ -308,6 +335,126 @@ fn profile(elf: &Path, cycles_file: &Path) -> Result<(f64, Vec<(String, f64)>), 
     let mut functions: Vec<(String, f64)> = by_function.into_iter().collect();
     functions.sort_by(|a, b| b.1.total_cmp(&a.1));
     Ok((output, functions))
+}
+
+/// The OLED example's methods a complete `--oled` run measures.
+const OLED_METHODS: [&str; 6] = [
+    "bayer2",
+    "bayer4",
+    "bayer8",
+    "blue-noise",
+    "floyd-steinberg",
+    "atkinson",
+];
+
+/// The OLED's size, and the first of the 4:3 picture's rows it shows
+/// (firmware/pico/src/bin/oled.rs).
+const OLED: (usize, usize, usize) = (128, 64, 16);
+
+/// `firmware/pico/src/bin/oled.rs` (an SSD1306 128x64 one-bit OLED on I2C0) built for each
+/// scene and dither method, run in the emulator, its display RAM decoded from the I2C stream
+/// and compared with the host's render dithered the same way; docs/pico-oled.md.
+fn oled_table(
+    root: &Path,
+    harness: &Path,
+    bootrom: &Path,
+    work: &Path,
+    files: &std::collections::BTreeMap<String, PathBuf>,
+    scenes: &[String],
+    methods: &[String],
+) -> Result<(), String> {
+    use microray::dither::{Format, Method};
+    let firmware = root.join("firmware/pico");
+    let (width, height, top) = OLED;
+    let mut table = String::from(
+        "| scene | method | identical | render cycles | cycles/pixel | s at 125 MHz |\n\
+         |---|---|---|---|---|---|\n",
+    );
+    let mut different = Vec::new();
+    for scene in scenes {
+        let path = files
+            .get(scene)
+            .ok_or_else(|| format!("no scene file named {scene}"))?;
+        let rgb = qemu::host_render::<I16F16>(
+            &Source::File(path),
+            width as u16,
+            (height * 3 / 2) as u16,
+            None,
+        )?;
+        for name in methods {
+            let method =
+                Method::from_name(name).ok_or_else(|| format!("no dither method {name}"))?;
+            let scene_path = path.display().to_string();
+            qemu::cargo(
+                &["build", "--release", "--quiet", "--bin", "oled"],
+                &firmware,
+                &[
+                    ("MICRORAY_PICO_SCENE", scene_path.as_str()),
+                    ("MICRORAY_OLED_DITHER", name.as_str()),
+                ],
+            )?;
+            let elf = firmware.join("target/thumbv6m-none-eabi/release/oled");
+            let panel_file = work.join(format!("{scene}-{name}.oled"));
+            let mut node = Command::new("node");
+            node.arg(harness.join("run.mjs"))
+                .args([&elf, bootrom, &panel_file])
+                .arg("5000000000")
+                .env("MICRORAY_PANEL", "ssd1306");
+            let render_cycles = emulate(harness, &mut node, &format!("{scene} {name}"))?;
+            let panel = std::fs::read(&panel_file).map_err(|e| e.to_string())?;
+            // The host's rows the panel shows, dithered the same way, 0 or 1 a pixel.
+            let mut shown = rgb
+                .get(top * width * 3..(top + height) * width * 3)
+                .ok_or("the host's render is too small")?
+                .to_vec();
+            microray::host::panel::whole(&mut shown, width, Format::Binary, Some(method));
+            let expected: Vec<u8> = shown.chunks(3).map(|c| u8::from(c[0] != 0)).collect();
+            let differing = panel.iter().zip(&expected).filter(|(a, b)| a != b).count();
+            let identical = panel.len() == expected.len() && differing == 0;
+            println!(
+                "{scene} {name}: {} ({differing} pixels differ), {render_cycles} render cycles",
+                if identical { "identical" } else { "DIFFERENT" }
+            );
+            if !identical {
+                different.push(format!("{scene} {name}"));
+            }
+            let pixels = (width * height) as f64;
+            let _ = writeln!(
+                table,
+                "| {scene} | {name} | {} | {render_cycles} | {:.0} | {:.2} |",
+                if identical { "yes" } else { "no" },
+                render_cycles as f64 / pixels,
+                render_cycles as f64 / 125e6
+            );
+        }
+    }
+    println!("{table}");
+    if scenes == ["showcase"] && methods.len() == OLED_METHODS.len() {
+        std::fs::write(root.join("docs/pico-oled.md"), oled_doc(&table))
+            .map_err(|e| e.to_string())?;
+    }
+    match different.first() {
+        Some(run) => Err(format!("{run}: the OLED differs from the host's render")),
+        None => Ok(()),
+    }
+}
+
+fn oled_doc(table: &str) -> String {
+    format!(
+        "# A one-bit OLED on an emulated Raspberry Pi Pico\n\n\
+         Written by `cargo xtask pico --oled`: `firmware/pico/src/bin/oled.rs` (an SSD1306 \
+         128x64 one-bit OLED at 0x3C on I2C0, SDA GP4, SCL GP5, through the `ssd1306` \
+         driver's buffered mode) built once per dither method (`MICRORAY_OLED_DITHER`) and \
+         run in rp2040js with the B1 bootrom. The scene is traced in Q16.16 at 128x96 and its \
+         middle 64 rows are dithered by `microray::dither::Dither` into the driver's buffer, \
+         then sent. The panel is decoded from the I2C stream (control bytes 0x00 commands, \
+         0x40 data; the addressing mode, column and page windows) into the controller's \
+         display RAM, and compared pixel for pixel with the host's render of the same rows \
+         dithered by `microray::host::panel`. Render cycles are the emulator's between the \
+         LED's edges on GP25: tracing, dithering and the I2C transfer (whose bytes the \
+         emulator completes at once: on a real bus at 400 kHz the 1 KiB frame takes about \
+         25 ms more).\n\n{table}"
+    )
 }
 
 /// The scenes the hardware table measures.

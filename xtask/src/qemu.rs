@@ -204,11 +204,22 @@ pub fn run(args: &[String]) -> Result<(), String> {
         return measurement.check();
     }
     if options.dither {
-        let table = dither_table(&measurement.rows, width, height)
-            + &panel_table(&measurement.rows, width, height);
+        let table = format!(
+            "{DITHER_HEADING}\n{}{}",
+            panel_table(&measurement.rows, width, height),
+            dither_table(&measurement.rows, width, height)
+        );
         println!("{table}");
         if options.only.is_empty() && options.build.is_none() {
-            std::fs::write(root.join("docs/dither.md"), &table).map_err(|e| e.to_string())?;
+            // The narrative before the measured part is kept.
+            let path = root.join("docs/dither.md");
+            let text = std::fs::read_to_string(&path).unwrap_or_default();
+            let kept = text
+                .split(DITHER_HEADING)
+                .next()
+                .unwrap_or(&text)
+                .trim_end();
+            std::fs::write(&path, format!("{kept}\n\n{table}")).map_err(|e| e.to_string())?;
         }
         return measurement.check();
     }
@@ -1468,6 +1479,9 @@ pub(crate) fn antialias_table(rows: &[Row], width: u16, height: u16) -> String {
     out
 }
 
+/// Where docs/dither.md's measured part starts (what is before it is kept).
+const DITHER_HEADING: &str = "## In QEMU: what each method costs";
+
 /// The scenes `cargo xtask qemu --dither` also renders into other panel formats by every
 /// method (the firmware's `panels` feature): the costs hardly depend on the scene.
 const PANEL_SCENES: [&str; 2] = ["spec0", "translucent3"];
@@ -1490,7 +1504,7 @@ type PanelKey<'r> = (&'r str, &'r str, String, String);
 fn panel_table(rows: &[Row], width: u16, height: u16) -> String {
     let pixels = f64::from(width) * f64::from(height);
     let mut out = format!(
-        "\n## Every panel format and method\n\n\
+        "\n### Every panel format and method\n\n\
          The scenes {} again at {width}x{height}, each into a one-bit panel and an Rgb565 one \
          through `microray::dither::Dither`, truncated and by every method (the diffusions \
          left to right; their row memory on the stack). Instructions a pixel, mean over the \
@@ -1578,7 +1592,7 @@ fn dithered(rgb: &[u8], width: u16) -> Vec<u8> {
 fn dither_table(rows: &[Row], width: u16, height: u16) -> String {
     let pixels = f64::from(width) * f64::from(height);
     let mut out = format!(
-        "# The Rgb565 dither in QEMU\n\n\
+        "\n### The Rgb565 dither (`Rgb565Dither`), every scene\n\n\
          Written by `cargo xtask qemu --dither`: every scene at {width}x{height}, rendered \
          plainly (Rgb888 rows out), and into an Rgb565 target through \
          `microray::dither::Rgb565Dither`, once truncating (`Rgb565Dither::truncating`: what \

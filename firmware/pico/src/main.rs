@@ -24,8 +24,6 @@ use embedded_graphics::primitives::Rectangle;
 use embedded_hal::digital::OutputPin;
 use embedded_hal_bus::spi::ExclusiveDevice;
 use fugit::RateExtU32;
-use microray::error::TextureError;
-use microray::parse::parse_scene_into;
 #[cfg(not(feature = "two-cores"))]
 use microray::render::Renderer;
 use mipidsi::Builder;
@@ -37,8 +35,9 @@ use rp_pico::entry;
 use rp_pico::hal::dma::DMAExt;
 #[cfg(feature = "two-cores")]
 use rp_pico::hal::multicore::Multicore;
-use rp_pico::hal::{self, clocks::Clock, gpio, pac, spi};
+use rp_pico::hal::{self, clocks::Clock, gpio, spi};
 
+mod board;
 #[cfg(feature = "two-cores")]
 mod split;
 mod stream;
@@ -47,12 +46,8 @@ mod two_cores;
 
 use stream::Stream;
 
-/// The scene, its textures and its `Scene` type (`PicoScene`), from the file build.rs
-/// embeds: the project's showcase, or the one `MICRORAY_PICO_SCENE` names.
-mod scene {
-    include!(concat!(env!("OUT_DIR"), "/scene.rs"));
-}
-use scene::PicoScene;
+mod embedded;
+use embedded::PicoScene;
 
 /// The panel's size; the 4:3 scene is drawn 240 x 180 in its middle.
 const PANEL: u16 = 240;
@@ -62,33 +57,27 @@ const ROW_BYTES: usize = 2 * PANEL as usize;
 
 #[entry]
 fn main() -> ! {
-    let mut pac = pac::Peripherals::take().unwrap();
-    let mut watchdog = hal::Watchdog::new(pac.WATCHDOG);
-    let clocks = hal::clocks::init_clocks_and_plls(
-        rp_pico::XOSC_CRYSTAL_FREQ,
-        pac.XOSC,
-        pac.CLOCKS,
-        pac.PLL_SYS,
-        pac.PLL_USB,
-        &mut pac.RESETS,
-        &mut watchdog,
-    )
-    .ok()
-    .unwrap();
-    let sio = hal::Sio::new(pac.SIO);
-    let pins = rp_pico::Pins::new(
-        pac.IO_BANK0,
-        pac.PADS_BANK0,
-        sio.gpio_bank0,
-        &mut pac.RESETS,
-    );
-    let mut timer = hal::Timer::new(pac.TIMER, &mut pac.RESETS, &clocks);
+    // Core 1's peripherals (`psm`, `ppb`, `fifo`) serve the two-core build only.
+    #[cfg_attr(not(feature = "two-cores"), allow(unused_variables))]
+    let board::Board {
+        pins,
+        clocks,
+        mut resets,
+        timer,
+        dma,
+        spi0,
+        psm,
+        ppb,
+        fifo,
+        ..
+    } = board::start();
+    let mut timer = hal::Timer::new(timer, &mut resets, &clocks);
 
     // SPI0 at 62.5 MHz: SCK GP18, MOSI GP19; CS GP17, DC GP16, RST GP20, backlight GP21.
     let sck: gpio::Pin<_, gpio::FunctionSpi, gpio::PullNone> = pins.gpio18.reconfigure();
     let mosi: gpio::Pin<_, gpio::FunctionSpi, gpio::PullNone> = pins.gpio19.reconfigure();
-    let spi = spi::Spi::<_, _, _, 8>::new(pac.SPI0, (mosi, sck)).init(
-        &mut pac.RESETS,
+    let spi = spi::Spi::<_, _, _, 8>::new(spi0, (mosi, sck)).init(
+        &mut resets,
         clocks.peripheral_clock.freq(),
         62_500_000u32.Hz(),
         embedded_hal::spi::MODE_3,
@@ -127,19 +116,10 @@ fn main() -> ! {
             cortex_m::asm::wfi();
         }
     };
-    let dma = pac.DMA.split(&mut pac.RESETS);
+    let dma = dma.split(&mut resets);
     let top = (PANEL - HEIGHT) / 2;
     let mut panel = Stream::new(dma.ch0, spi, [first, second], dc, cs, top, HEIGHT);
-    let textures = |name: &str| {
-        scene::TEXTURES
-            .iter()
-            .find(|(written, _)| *written == name)
-            .map(|(_, bytes)| *bytes)
-            .ok_or(TextureError::NotFound)
-    };
-    if parse_scene_into(scene::TEXT.as_bytes(), textures, scene).is_err()
-        || scene.set_resolution(PANEL, HEIGHT).is_err()
-    {
+    if !embedded::load(scene, PANEL, HEIGHT) {
         let _ = panel.clear(Rgb565::RED);
         panel.finish();
         loop {
@@ -151,8 +131,8 @@ fn main() -> ! {
     let scene: &'static PicoScene = scene;
     #[cfg(feature = "two-cores")]
     {
-        let mut fifo = sio.fifo;
-        let mut multicore = Multicore::new(&mut pac.PSM, &mut pac.PPB, &mut fifo);
+        let (mut psm, mut ppb, mut fifo) = (psm, ppb, fifo);
+        let mut multicore = Multicore::new(&mut psm, &mut ppb, &mut fifo);
         two_cores::render(&mut multicore, scene, &mut panel);
     }
     #[cfg(not(feature = "two-cores"))]

@@ -10,7 +10,7 @@ use embedded_graphics::prelude::DrawTarget;
 use microray::render::Renderer;
 use rp_pico::hal::multicore::Multicore;
 
-use crate::PicoScene;
+use crate::embedded::PicoScene;
 use crate::split::{even_rows, odd_rows};
 
 /// Renders the scene into `panel` with both cores; returns when every row is on the panel.

@@ -543,3 +543,50 @@ fn a_partial_area_is_diffused_on_its_own() {
     }
     assert_eq!(panel.pixels.iter().filter(|p| p.is_some()).count(), 200);
 }
+
+#[test]
+fn anti_aliased_rows_are_diffused_in_order() {
+    // The anti-aliased render through the wrapper equals the anti-aliased image diffused by
+    // hand: its rows come whole, top to bottom.
+    use microray::render::{AaPixel, Antialias, Samples};
+    let text = b"camera c { pixeldim 40 30 worlddim 8 6 viewpoint 4 3 4 }
+                 material grey { ambient 1 1 1 diffuse 3 3 3 }
+                 plane floor { material grey normal 0 1 0 point 0 0 0 }
+                 sphere ball { material grey center 4 2 -3 radius 1.5 }
+                 light sun { location 4 5 -2 emissivity 4 4 4 }";
+    let scene: Scene<f32, 2, 1, 1, 0, 40> = parse_scene(text, no_textures).unwrap();
+    let renderer = microray::render::Renderer::new(&scene);
+    let aa = Antialias::Grid(Samples::rotated(4).unwrap());
+    let image = microray::host::antialiased(&renderer, aa).unwrap();
+    let size = Size::new(40, 30);
+    let mut panel = Panel::<Gray2>::new(size);
+    let mut memory = vec![0i16; Diffusion::<Gray2>::cells(Kernel::FloydSteinberg, 40)];
+    let mut dither =
+        Dither::diffusing(&mut panel, Kernel::FloydSteinberg, true, &mut memory).unwrap();
+    let mut buffer = vec![AaPixel::NEW; Antialias::buffer_len(40)];
+    renderer
+        .render_antialiased(
+            &mut dither,
+            Rectangle::new(Point::zero(), size),
+            aa,
+            &mut buffer,
+            |_| core::ops::ControlFlow::Continue(()),
+        )
+        .unwrap();
+    let mut by_hand = vec![0i16; Diffusion::<Gray2>::cells(Kernel::FloydSteinberg, 40)];
+    let mut d = Diffusion::<Gray2, _>::new(Kernel::FloydSteinberg, true, 40, &mut by_hand).unwrap();
+    let mut expected = Vec::new();
+    for row in image.rgb().chunks(40 * 3) {
+        for (x, c) in row.chunks(3).enumerate() {
+            d.set(x, Rgb888::new(c[0], c[1], c[2]));
+        }
+        d.finish_row();
+        expected.extend(d.levels());
+        d.next_row();
+    }
+    assert_eq!(panel.drawn(), expected);
+    // Anti-aliasing changed the picture (its edges), so the test saw the anti-aliased rows.
+    let mut plain = Framebuffer::new(size);
+    render(&scene, &mut plain).unwrap();
+    assert_ne!(plain.rgb(), image.rgb());
+}

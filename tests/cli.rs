@@ -244,10 +244,7 @@ fn render_progressive_writes_the_previews_and_the_same_image() {
 fn render_writes_a_panels_colours_truncated_and_dithered() {
     use embedded_graphics::pixelcolor::{BinaryColor, Gray2, Rgb565, Rgb888, RgbColor};
     use embedded_graphics::prelude::{OriginDimensions, Point};
-    use microray::dither::{
-        Diffusion, Kernel, Matrix, PanelColor, dither_ordered, dither_rgb565, shown,
-        truncate_rgb565,
-    };
+    use microray::dither::{Kernel, Matrix, dither_ordered, dither_rgb565, shown, truncate_rgb565};
     let dir = std::env::temp_dir().join(format!("microray-cli-panel-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/vases.txt");
@@ -294,33 +291,22 @@ fn render_writes_a_panels_colours_truncated_and_dithered() {
         shown(dither_ordered::<BinaryColor>(c, at(i), Matrix::BlueNoise))
     });
     // Error diffusion: the library's, row after row.
-    fn diffused<C: PanelColor>(
-        pixels: &[Rgb888],
-        width: usize,
-        kernel: Kernel,
-        serpentine: bool,
-    ) -> Vec<Rgb888> {
-        let mut memory = vec![0i16; Diffusion::<C>::cells(kernel, width)];
-        let mut d = Diffusion::<C, _>::new(kernel, serpentine, width, &mut memory).unwrap();
-        let mut out = Vec::new();
-        for row in pixels.chunks(width) {
-            for (x, &c) in row.iter().enumerate() {
-                d.set(x, c);
-            }
-            d.finish_row();
-            out.extend(d.levels().map(shown));
-            d.next_row();
-        }
-        out
-    }
     // `--dither rgb565` without a method is the format's best: Floyd-Steinberg.
-    let fs = diffused::<Rgb565>(&pixels, width, Kernel::FloydSteinberg, false);
+    let fs: Vec<Rgb888> =
+        common::diffused_by_hand::<Rgb565>(&pixels, width, Kernel::FloydSteinberg, false)
+            .into_iter()
+            .map(shown)
+            .collect();
     check(
         "fs.ppm",
         &["--dither", "rgb565", "--threads", "2"],
         &|i, _| fs[i],
     );
-    let atkinson = diffused::<Gray2>(&pixels, width, Kernel::Atkinson, true);
+    let atkinson: Vec<Rgb888> =
+        common::diffused_by_hand::<Gray2>(&pixels, width, Kernel::Atkinson, true)
+            .into_iter()
+            .map(shown)
+            .collect();
     check(
         "atkinson.ppm",
         &["--dither", "gray2:atkinson-serpentine"],

@@ -425,8 +425,6 @@ fn the_wrapper_diffuses_what_the_renderer_draws() {
                  light sun { location 4 5 -2 emissivity 4 4 4 }";
     let scene: Scene<f32, 2, 1, 1, 0, 48> = parse_scene(text, no_textures).unwrap();
     let size = Size::new(48, 36);
-    let mut full: MockDisplay<Rgb888> = MockDisplay::new();
-    full.set_allow_out_of_bounds_drawing(true);
     let mut image = Framebuffer::new(size);
     render(&scene, &mut image).unwrap();
     let pixels: Vec<Rgb888> = image
@@ -443,17 +441,7 @@ fn the_wrapper_diffuses_what_the_renderer_draws() {
             render(&scene, &mut dither).unwrap();
             // And again: after the last row the wrapper starts over at the top.
             render(&scene, &mut dither).unwrap();
-            let mut by_hand = vec![0i16; Diffusion::<Gray2>::cells(kernel, 48)];
-            let mut d = Diffusion::<Gray2, _>::new(kernel, serpentine, 48, &mut by_hand).unwrap();
-            let mut expected = Vec::new();
-            for row in pixels.chunks(48) {
-                for (x, &c) in row.iter().enumerate() {
-                    d.set(x, c);
-                }
-                d.finish_row();
-                expected.extend(d.levels());
-                d.next_row();
-            }
+            let expected = common::diffused_by_hand::<Gray2>(&pixels, 48, kernel, serpentine);
             assert_eq!(panel.drawn(), expected, "{kernel:?} {serpentine}");
             let levels: std::collections::BTreeSet<u8> =
                 expected.iter().map(|c| c.luma()).collect();
@@ -527,19 +515,18 @@ fn a_partial_area_is_diffused_on_its_own() {
         .unwrap();
     let mut whole = Framebuffer::new(Size::new(40, 30));
     render(&scene, &mut whole).unwrap();
-    let mut by_hand = vec![0i16; Diffusion::<Gray4>::cells(Kernel::Atkinson, 20)];
-    let mut d = Diffusion::<Gray4, _>::new(Kernel::Atkinson, true, 20, &mut by_hand).unwrap();
-    for y in 7..17 {
-        for x in 5..25 {
-            let i = (y * 40 + x) * 3;
-            let c = &whole.rgb()[i..i + 3];
-            d.set(x - 5, Rgb888::new(c[0], c[1], c[2]));
-        }
-        d.finish_row();
-        for (x, c) in (5..25).zip(d.levels()) {
-            assert_eq!(panel.pixels[y * 40 + x], Some(c), "{x} {y}");
-        }
-        d.next_row();
+    // The area's pixels of the whole picture, diffused by hand as a picture of their own.
+    let cut: Vec<Rgb888> = (7..17)
+        .flat_map(|y| (5..25).map(move |x| (y, x)))
+        .map(|(y, x)| {
+            let c = &whole.rgb()[(y * 40 + x) * 3..];
+            Rgb888::new(c[0], c[1], c[2])
+        })
+        .collect();
+    let expected = common::diffused_by_hand::<Gray4>(&cut, 20, Kernel::Atkinson, true);
+    for (i, c) in expected.into_iter().enumerate() {
+        let (y, x) = (7 + i / 20, 5 + i % 20);
+        assert_eq!(panel.pixels[y * 40 + x], Some(c), "{x} {y}");
     }
     assert_eq!(panel.pixels.iter().filter(|p| p.is_some()).count(), 200);
 }
@@ -573,17 +560,12 @@ fn anti_aliased_rows_are_diffused_in_order() {
             |_| core::ops::ControlFlow::Continue(()),
         )
         .unwrap();
-    let mut by_hand = vec![0i16; Diffusion::<Gray2>::cells(Kernel::FloydSteinberg, 40)];
-    let mut d = Diffusion::<Gray2, _>::new(Kernel::FloydSteinberg, true, 40, &mut by_hand).unwrap();
-    let mut expected = Vec::new();
-    for row in image.rgb().chunks(40 * 3) {
-        for (x, c) in row.chunks(3).enumerate() {
-            d.set(x, Rgb888::new(c[0], c[1], c[2]));
-        }
-        d.finish_row();
-        expected.extend(d.levels());
-        d.next_row();
-    }
+    let pixels: Vec<Rgb888> = image
+        .rgb()
+        .chunks(3)
+        .map(|c| Rgb888::new(c[0], c[1], c[2]))
+        .collect();
+    let expected = common::diffused_by_hand::<Gray2>(&pixels, 40, Kernel::FloydSteinberg, true);
     assert_eq!(panel.drawn(), expected);
     // Anti-aliasing changed the picture (its edges), so the test saw the anti-aliased rows.
     let mut plain = Framebuffer::new(size);

@@ -66,6 +66,15 @@ impl core::fmt::Display for SetupError {
 
 impl core::error::Error for SetupError {}
 
+/// Adds a pixel's colour, in 16ths, to its cells (the errors it has received).
+#[inline(always)]
+fn add_colour<C: PanelColor>(cells: &mut [i16], c: Rgb888) {
+    for (cell, v) in cells.iter_mut().zip(fine_values::<C>(c)) {
+        let wanted = i32::from(*cell) + (v >> 4) as i32;
+        *cell = wanted.clamp(i32::from(i16::MIN), i32::from(i16::MAX)) as i16;
+    }
+}
+
 /// One channel of a row: where its cells are and how it quantizes.
 struct Channel {
     k: usize,
@@ -262,15 +271,18 @@ impl<C: PanelColor, M: AsMut<[i16]> + AsRef<[i16]>> Diffusion<C, M> {
 
     /// The cells of the row `ahead` rows below the current one.
     fn ring(&mut self, ahead: usize) -> &mut [i16] {
+        let span = self.span(ahead);
+        self.memory.as_mut().get_mut(span).unwrap_or(&mut [])
+    }
+
+    /// Where the row `ahead` rows below the current one lies in the memory.
+    fn span(&self, ahead: usize) -> core::ops::Range<usize> {
         let len = self.width * channels::<C>();
         let mut k = self.base + ahead;
         if k >= self.kernel.rows() {
             k -= self.kernel.rows();
         }
-        self.memory
-            .as_mut()
-            .get_mut(k * len..(k + 1) * len)
-            .unwrap_or(&mut [])
+        k * len..(k + 1) * len
     }
 
     /// Adds pixel `x`'s colour to the errors it has received (columns past the width are
@@ -278,13 +290,8 @@ impl<C: PanelColor, M: AsMut<[i16]> + AsRef<[i16]>> Diffusion<C, M> {
     #[inline]
     pub fn set(&mut self, x: usize, c: Rgb888) {
         let n = channels::<C>();
-        let values = fine_values::<C>(c);
-        let row = self.ring(0);
-        for (k, v) in values.iter().take(n).enumerate() {
-            if let Some(cell) = row.get_mut(x * n + k) {
-                let wanted = i32::from(*cell) + (*v >> 4) as i32;
-                *cell = wanted.clamp(i32::from(i16::MIN), i32::from(i16::MAX)) as i16;
-            }
+        if let Some(cells) = self.ring(0).get_mut(x * n..(x + 1) * n) {
+            add_colour::<C>(cells, c);
         }
     }
 
@@ -295,11 +302,7 @@ impl<C: PanelColor, M: AsMut<[i16]> + AsRef<[i16]>> Diffusion<C, M> {
         let n = channels::<C>();
         let mut count = 0;
         for (cells, c) in self.ring(0).chunks_exact_mut(n).zip(colors) {
-            let values = fine_values::<C>(c);
-            for (cell, v) in cells.iter_mut().zip(values) {
-                let wanted = i32::from(*cell) + (v >> 4) as i32;
-                *cell = wanted.clamp(i32::from(i16::MIN), i32::from(i16::MAX)) as i16;
-            }
+            add_colour::<C>(cells, c);
             count += 1;
         }
         count
@@ -346,13 +349,7 @@ impl<C: PanelColor, M: AsMut<[i16]> + AsRef<[i16]>> Diffusion<C, M> {
     /// The current row's colours, left to right (after [`finish_row`](Self::finish_row)).
     pub fn levels(&self) -> impl Iterator<Item = C> + '_ {
         let n = channels::<C>();
-        let len = self.width * n;
-        let k = self.row % self.kernel.rows();
-        let row = self
-            .memory
-            .as_ref()
-            .get(k * len..(k + 1) * len)
-            .unwrap_or(&[]);
+        let row = self.memory.as_ref().get(self.span(0)).unwrap_or(&[]);
         row.chunks_exact(n.max(1)).map(move |cells| {
             let level = |i: usize| cells.get(i).map_or(0, |&v| v.clamp(0, 255) as u8);
             C::from_levels([level(0), level(1), level(2)])

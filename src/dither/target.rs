@@ -258,6 +258,18 @@ where
         area: &Rectangle,
         colors: I,
     ) -> Result<(), Self::Error> {
+        if let How::Diffuse { diffusion, filled } = &mut self.how {
+            // A whole row of the area, the one expected (the renderer's case): at once.
+            let row = self.area.top_left.y + diffusion.rows_done() as i32;
+            if area.size.height == 1
+                && area.top_left == Point::new(self.area.top_left.x, row)
+                && area.size.width == self.area.size.width
+                && *filled == 0
+            {
+                *filled = diffusion.set_row(colors);
+                return Self::row_out(self.inner, self.area, diffusion, filled);
+            }
+        }
         match &self.how {
             How::Truncate => self
                 .inner
@@ -273,22 +285,9 @@ where
                     .fill_contiguous(area, pixels)
                     .map_err(DitherError::Target)
             }
-            How::Diffuse { diffusion, filled } => {
-                // A whole row of the area, the one expected (the renderer's case): at once.
-                let row = self.area.top_left.y + diffusion.rows_done() as i32;
-                let whole_row = area.size.height == 1
-                    && area.top_left == Point::new(self.area.top_left.x, row)
-                    && area.size.width == self.area.size.width
-                    && *filled == 0;
-                if !whole_row {
-                    let pixels = area.points().zip(colors).map(|(p, c)| Pixel(p, c));
-                    return self.pass(pixels);
-                }
-                let How::Diffuse { diffusion, filled } = &mut self.how else {
-                    return Ok(());
-                };
-                *filled = diffusion.set_row(colors);
-                Self::row_out(self.inner, self.area, diffusion, filled)
+            How::Diffuse { .. } => {
+                let pixels = area.points().zip(colors).map(|(p, c)| Pixel(p, c));
+                self.pass(pixels)
             }
         }
     }

@@ -208,3 +208,26 @@ impl<C: PixelColor> DrawTarget for Panel<C> {
         Ok(())
     }
 }
+
+/// Rows of `width` pixels diffused by hand, with the library's `Diffusion` alone: what the
+/// `Dither` target and the command line must give.
+pub fn diffused_by_hand<C: microray::dither::PanelColor>(
+    pixels: &[embedded_graphics::pixelcolor::Rgb888],
+    width: usize,
+    kernel: microray::dither::Kernel,
+    serpentine: bool,
+) -> Vec<C> {
+    let mut memory = vec![0i16; microray::dither::Diffusion::<C>::cells(kernel, width)];
+    let mut d =
+        microray::dither::Diffusion::<C, _>::new(kernel, serpentine, width, &mut memory).unwrap();
+    let mut out = Vec::new();
+    for row in pixels.chunks(width) {
+        for (x, &c) in row.iter().enumerate() {
+            d.set(x, c);
+        }
+        d.finish_row();
+        out.extend(d.levels());
+        d.next_row();
+    }
+    out
+}

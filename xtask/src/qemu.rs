@@ -1060,9 +1060,9 @@ fn compare(
             });
             converted.unwrap_or_else(|| Err(format!("{name}: no such panel way")))
         } else if name.ends_with("+dither") {
-            host.map(|h| dithered(&h, width))
+            host.map(|h| rgb565(h, width, true))
         } else if name.ends_with("+rgb565") {
-            host.map(|h| truncated(&h))
+            host.map(|h| rgb565(h, width, false))
         } else {
             host
         };
@@ -1558,33 +1558,19 @@ fn panel_table(rows: &[Row], width: u16, height: u16) -> String {
     out
 }
 
-/// RGB bytes as an Rgb565 panel shows them truncated (`microray::dither`), expanded back.
-fn truncated(rgb: &[u8]) -> Vec<u8> {
-    use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
-    rgb.chunks(3)
-        .flat_map(|c| {
-            let c = microray::dither::truncate_rgb565(Rgb888::new(c[0], c[1], c[2]));
-            let t = Rgb888::from(c);
-            [t.r(), t.g(), t.b()]
-        })
-        .collect()
-}
-
-/// RGB bytes as an Rgb565 panel shows them through `microray::dither`, expanded back.
-fn dithered(rgb: &[u8], width: u16) -> Vec<u8> {
-    use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
-    use embedded_graphics::prelude::Point;
-    let width = usize::from(width).max(1);
-    let mut out = Vec::with_capacity(rgb.len());
-    for (i, c) in rgb.chunks(3).enumerate() {
-        let p = Point::new((i % width) as i32, (i / width) as i32);
-        let d = Rgb888::from(microray::dither::dither_rgb565(
-            Rgb888::new(c[0], c[1], c[2]),
-            p,
-        ));
-        out.extend_from_slice(&[d.r(), d.g(), d.b()]);
-    }
-    out
+/// RGB bytes (`width` pixels a row) as an Rgb565 panel shows them, expanded back:
+/// truncated (`Rgb565Dither::truncating`) or dithered (`Rgb565Dither`, which is `bayer4`).
+fn rgb565(mut rgb: Vec<u8>, width: u16, dither: bool) -> Vec<u8> {
+    use microray::dither::{Format, Matrix, Method};
+    let method = dither.then_some(Method::Ordered(Matrix::Bayer4));
+    microray::host::panel::by_position(
+        &mut rgb,
+        usize::from(width),
+        (0, 0),
+        Format::Rgb565,
+        method,
+    );
+    rgb
 }
 
 /// What the Rgb565 dither costs, per scene, machine and number type: instructions a pixel

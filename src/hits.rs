@@ -500,20 +500,42 @@ fn lanes_from_plane<'a, S: Scalar + 'a>(
 /// them, every ray's closest hit ([`closest_hit_in_row`]) is this one. `None` when no
 /// entry is at one `t`.
 pub fn row_plane<S: Scalar>(row: &[RowEntry<S>]) -> Option<(usize, S, bool)> {
+    row_plane_within(row, None)
+}
+
+/// [`row_plane`] for the columns `within` (`[first, last]`) of the row: there a run of
+/// columns ([`RowTest::AtAcross`]) that holds them all is a plane at one `t`, and one that
+/// holds none of them a miss (a segment of the row cut at the runs' ends).
+pub(crate) fn row_plane_within<S: Scalar>(
+    row: &[RowEntry<S>],
+    within: Option<[u16; 2]>,
+) -> Option<(usize, S, bool)> {
     let mut best = None;
     let mut limit = S::UNBOUNDED;
     let mut tested = false;
+    #[cfg(any(not(feature = "plan"), microray_small))]
+    let _ = within;
     for entry in row {
+        // Entries come in increasing index order: ties go to the first.
+        let mut at = |t: S| {
+            if t < limit {
+                best = Some((usize::from(entry.index), t));
+                limit = t;
+            }
+        };
         match entry.test {
             RowTest::Miss => {}
-            RowTest::At(t) => {
-                if t < limit {
-                    best = Some((usize::from(entry.index), t));
-                    limit = t;
-                }
-            }
+            RowTest::At(t) => at(t),
+            #[cfg(all(feature = "plan", not(microray_small)))]
+            RowTest::AtAcross { t, first, last, .. } => match within {
+                Some([from, to]) if first <= from && to <= last => at(t),
+                Some([from, to]) if to < first || last < from => {}
+                _ => tested = true,
+            },
             #[cfg(feature = "plan")]
-            RowTest::Plane(_) | RowTest::AtAcross { .. } => tested = true,
+            RowTest::Plane(_) => tested = true,
+            #[cfg(all(feature = "plan", microray_small))]
+            RowTest::AtAcross { .. } => tested = true,
             #[cfg(all(feature = "plan", feature = "batch"))]
             RowTest::Across { .. } | RowTest::PlaneAcross { .. } => tested = true,
             RowTest::Hits => tested = true,

@@ -23,7 +23,7 @@
 use crate::bvh::Bvh;
 use crate::camera::{Camera, RowRays};
 use crate::hits::Among;
-use crate::object::{RowEntry, RowTest};
+use crate::object::{Object, RowEntry, RowTest};
 use crate::plan::{Plan, RowSpan, ShadowBoxes};
 use crate::ray::Ray;
 use crate::scalar::Scalar;
@@ -444,7 +444,7 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
         let rays = self.camera.row_rays(camera_y, 0);
         let shader = self.shader();
         self.row_tests(camera_y, &rays)
-            .is_some_and(|tests| self.row_shading(&shader, &tests, &rays).is_some())
+            .is_some_and(|tests| self.row_shading(&shader, &tests, &rays, None).is_some())
     }
 
     /// The shading of a row whose tests are prepared, when its pixels are shaded together
@@ -457,11 +457,12 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
         shader: &Shader<'r, S>,
         tests: &[RowEntry<S>],
         rays: &RowRays<S>,
+        within: Option<[u16; 2]>,
     ) -> Option<RowShading<'r, S>> {
         match self.shading {
             Shading::Color if self.rows_shared => {
                 let origin = rays.origin(self.shader.z_limit());
-                shader.shared_row_shading(tests, &origin, self.boxes().is_some())
+                shader.shared_row_shading(tests, &origin, self.boxes().is_some(), within)
             }
             _ => None,
         }
@@ -506,6 +507,24 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
         }
         Ok(Rendered::Complete)
     }
+}
+
+/// How a row is cut: by the shadow boxes on its plane (with the plane's index, besides the
+/// entries' spans), its first segment ending at `to`.
+#[derive(Clone, Copy, Debug)]
+struct Cut<'b> {
+    boxes: Option<(&'b ShadowBoxes, usize)>,
+    to: usize,
+}
+
+/// A segment of a row: the columns `from..to` of camera row `camera_y`, counted from
+/// image column `left`.
+#[derive(Clone, Copy, Debug)]
+struct Segment {
+    camera_y: u16,
+    left: u16,
+    from: usize,
+    to: usize,
 }
 
 /// A row's objects with their row tests (`OBJECTS` slots).
@@ -569,7 +588,7 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         rays: RowRays<S>,
         row: &mut [C],
     ) {
-        let mut shading = self.row_shading(shader, tests, &rays);
+        let mut shading = self.row_shading(shader, tests, &rays, None);
         // No object in the row (a scene's sky): every pixel black, with no ray made (the
         // host's; the firmware keeps its flash).
         #[cfg(feature = "batch")]
@@ -592,6 +611,15 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
             }
         };
         let to = cut(0);
+        // Rectangles' runs of columns: their segments shaded as their planes'.
+        if has_runs(self.shader.objects(), tests)
+            && self.rows_shared
+            && self.shading == Shading::Color
+        {
+            let cut = Cut { boxes, to };
+            self.shade_with_runs(shader, camera_y, left, tests, spans, cut, &mut shading, row);
+            return;
+        }
         if to >= width {
             // One segment (most rows): the row's own rays, moved in.
             self.set_segment(
@@ -608,23 +636,21 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
             return;
         }
         // Several: the row's rays are not used again (each segment makes its own).
+        let cut = Cut { boxes, to };
         self.shade_cut_row(
             shader,
             camera_y,
             left,
             tests,
             spans,
-            boxes,
+            cut,
             shading.as_mut(),
-            to,
             row,
         );
     }
 
     /// [`shade_segments`](Self::shade_segments) for a row cut in several, the first ending
-    /// at `to`: each segment's rays by value, made afresh (through one `&mut` for all, the
-    /// loops could not keep them in registers, and soft-float f32 spec0 cost the Cortex-M0
-    /// 16 % more). Out of line: in line, its locals sat in the caller's frame under every
+    /// at `cut.to`. Out of line: in line, its locals sat in the caller's frame under every
     /// row's calls (the micro:bit's stack for spec0, 96 B).
     #[allow(clippy::too_many_arguments)]
     #[inline(never)]
@@ -635,32 +661,141 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         left: u16,
         tests: &mut [RowEntry<S>],
         spans: &[(u8, RowSpan)],
-        boxes: Option<(&ShadowBoxes, usize)>,
+        cut: Cut<'_>,
         mut shading: Option<&mut RowShading<'_, S>>,
-        mut to: usize,
         row: &mut [C],
     ) {
+        let boxes = cut.boxes;
+        self.each_segment(camera_y, left, spans, cut, row, |segment, part| {
+            let Segment { from, to, .. } = segment;
+            let here = shading.as_deref_mut();
+            let first = self.set_segment(tests, spans, boxes, here, camera_y, left, from, to);
+            let rays = self.camera.row_rays(camera_y, first);
+            self.shade_part(shader, tests, shading.as_deref(), rays, part);
+        });
+    }
+
+    /// [`shade_cut_row`](Self::shade_cut_row) for a row with rectangles' runs of columns
+    /// (one segment or several, the first ending at `cut.to`), each segment readied by
+    /// [`ready_segment`](Self::ready_segment). Out of line, apart from `shade_cut_row`:
+    /// rows without runs keep their stack (the segments' shadings' set-up, about 700 bytes
+    /// deeper on the micro:bit for every scene when the two were one).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(never)]
+    fn shade_with_runs<'s, C: From<Rgb888> + Copy>(
+        &self,
+        shader: &Shader<'s, S>,
+        camera_y: u16,
+        left: u16,
+        tests: &mut [RowEntry<S>],
+        spans: &[(u8, RowSpan)],
+        cut: Cut<'_>,
+        shading: &mut Option<RowShading<'s, S>>,
+        row: &mut [C],
+    ) {
+        let boxes = cut.boxes;
+        // The row's rays, for the segments' own shadings (they take what the rays share).
+        let row_rays = self.camera.row_rays(camera_y, left);
+        let mut in_run = false;
+        self.each_segment(camera_y, left, spans, cut, row, |segment, part| {
+            let run = &mut in_run;
+            let first = self.ready_segment(
+                shader, tests, spans, boxes, shading, run, &row_rays, segment,
+            );
+            let rays = self.camera.row_rays(camera_y, first);
+            self.shade_part(shader, tests, shading.as_ref(), rays, part);
+        });
+    }
+
+    /// Calls `shade` with each segment of a row cut as [`next_cut`] cuts it (the first
+    /// ending at `cut.to`) and its part of `row`. Each segment's rays are made afresh by
+    /// value (through one `&mut` for all, the loops could not keep them in registers, and
+    /// soft-float f32 spec0 cost the Cortex-M0 16 % more).
+    #[inline(always)]
+    fn each_segment<C>(
+        &self,
+        camera_y: u16,
+        left: u16,
+        spans: &[(u8, RowSpan)],
+        cut: Cut<'_>,
+        row: &mut [C],
+        mut shade: impl FnMut(Segment, &mut [C]),
+    ) {
         let width = row.len();
-        let mut from = 0;
+        let (mut from, mut to) = (0, cut.to);
         while from < width {
             let Some(part) = row.get_mut(from..to) else {
                 break;
             };
-            let first = self.set_segment(
-                tests,
-                spans,
-                boxes,
-                shading.as_deref_mut(),
+            let segment = Segment {
                 camera_y,
                 left,
                 from,
                 to,
-            );
-            let rays = self.camera.row_rays(camera_y, first);
-            self.shade_part(shader, tests, shading.as_deref(), rays, part);
+            };
+            shade(segment, part);
             from = to;
-            to = next_cut(spans, boxes, camera_y, left, width, from);
+            to = next_cut(spans, cut.boxes, camera_y, left, width, from);
         }
+    }
+
+    /// Readies the row's tests and `shading` for a segment, as
+    /// [`set_segment`](Self::set_segment) does, and returns its first image column; but
+    /// where a rectangle's run of columns ([`RowTest::AtAcross`]) holds the whole segment,
+    /// every ray of the segment meets the rectangle at one `t`, as a row's rays meet a
+    /// plane, and the segment gets a shading of its own, with the runs that hold it as
+    /// planes (the nearest of those and the row's planes first, as each ray's closest hit
+    /// finds it). It is built in the row's shading's place (`runs` says it is there: a later
+    /// segment outside the runs builds the row's again), and the shadow boxes are applied to
+    /// it.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn ready_segment<'s>(
+        &self,
+        shader: &Shader<'s, S>,
+        tests: &mut [RowEntry<S>],
+        spans: &[(u8, RowSpan)],
+        boxes: Option<(&ShadowBoxes, usize)>,
+        shading: &mut Option<RowShading<'s, S>>,
+        runs: &mut bool,
+        rays: &RowRays<S>,
+        segment: Segment,
+    ) -> u16 {
+        let Segment {
+            camera_y,
+            left,
+            from,
+            to,
+        } = segment;
+        let column = |c: usize| left.saturating_add(u16::try_from(c).unwrap_or(u16::MAX));
+        let within = [column(from), column(to.saturating_sub(1))];
+        if self.rows_shared
+            && self.shading == Shading::Color
+            && in_run(self.shader.objects(), tests, within)
+        {
+            // The spanned entries first: the segment's shading reads them.
+            let first = self.set_segment(tests, spans, boxes, None, camera_y, left, from, to);
+            *shading = self.row_shading(shader, tests, rays, Some(within));
+            if let (Some(own), Some(boxes)) = (shading.as_mut(), self.boxes()) {
+                own.set_segment(boxes, camera_y, within[0], within[1]);
+            }
+            *runs = true;
+            return first;
+        }
+        if *runs {
+            *shading = self.row_shading(shader, tests, rays, None);
+            *runs = false;
+        }
+        self.set_segment(
+            tests,
+            spans,
+            boxes,
+            shading.as_mut(),
+            camera_y,
+            left,
+            from,
+            to,
+        )
     }
 
     /// Readies the row's tests and shading for the segment of columns `from..to` (counted
@@ -802,7 +937,7 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         }
         let width = usize::from(self.camera.width());
         let spans = self.column_spans(tests, 0, width);
-        let mut shading = self.row_shading(shader, tests, &rays);
+        let mut shading = self.row_shading(shader, tests, &rays, None);
         // No object in the row (a scene's sky), as `shade_segments` has it.
         #[cfg(feature = "batch")]
         if shading.is_none()
@@ -823,6 +958,7 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
                 .div_ceil(step)
                 .min(count)
         };
+        let mut runs = false;
         let mut from = 0;
         while from < width {
             let to = if cfg!(microray_small) {
@@ -832,15 +968,15 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
             };
             let (start, end) = (before(from), before(to));
             if let (true, Some(part)) = (start < end, row.get_mut(start..end)) {
-                self.set_segment(
-                    tests,
-                    &spans,
-                    boxes,
-                    shading.as_mut(),
+                let segment = Segment {
                     camera_y,
-                    0,
+                    left: 0,
                     from,
                     to,
+                };
+                let shading = &mut shading;
+                self.ready_segment(
+                    shader, tests, &spans, boxes, shading, &mut runs, &rays, segment,
                 );
                 let column = first_column + start * step;
                 let rays = self.camera.row_rays_every(
@@ -907,6 +1043,38 @@ fn bytes<S: Scalar>(c: Vec3<S>) -> Rgb888 {
 
 /// The most entries of a row cut into segments by their column spans (more: shaded whole).
 const MAX_SPANNED: usize = 4;
+
+/// Whether some entry is a plain rectangle met in a run of columns ([`RowTest::AtAcross`]),
+/// whose segments can be shaded as its plane's (a textured one's cannot). Never built for
+/// size (rectangles have no runs there).
+#[inline(always)]
+fn has_runs<S: Scalar>(objects: &[Object<S>], tests: &[RowEntry<S>]) -> bool {
+    tests
+        .iter()
+        .any(|entry| run_of_plane(objects, entry).is_some())
+}
+
+/// Whether a run of columns of a plain rectangle (see [`has_runs`]) holds the image
+/// columns `within` (first and last).
+#[inline(always)]
+fn in_run<S: Scalar>(objects: &[Object<S>], tests: &[RowEntry<S>], within: [u16; 2]) -> bool {
+    tests.iter().any(|entry| {
+        run_of_plane(objects, entry)
+            .is_some_and(|[first, last]| first <= within[0] && within[1] <= last)
+    })
+}
+
+/// The run of columns (first and last) of an entry that is a plain rectangle met in one.
+#[inline(always)]
+fn run_of_plane<S: Scalar>(objects: &[Object<S>], entry: &RowEntry<S>) -> Option<[u16; 2]> {
+    #[cfg(all(feature = "plan", not(microray_small)))]
+    if let RowTest::AtAcross { first, last, .. } = entry.test {
+        let object = objects.get(usize::from(entry.index))?;
+        return object.surface_is_uniform().then_some([first, last]);
+    }
+    let _ = (objects, entry);
+    None
+}
 
 /// Turns the entries with column `spans` to tests where column `first` (and the segment it
 /// starts) lies in their span, to misses where it does not. A run of columns

@@ -355,9 +355,10 @@ impl<S: Scalar> Object<S> {
         }
     }
     /// Whether the surface look-up gives the same material, reflectivities and normal at
-    /// every point (a plain plane), so only the hit point changes from hit to hit.
+    /// every point (a plain plane or a plain finite one, whose look-up is the plane's), so
+    /// only the hit point changes from hit to hit.
     pub fn surface_is_uniform(&self) -> bool {
-        matches!(self.shape, Shape::Plane(_))
+        matches!(self.shape, Shape::Plane(_) | Shape::FPlane(_))
     }
 }
 

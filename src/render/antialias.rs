@@ -488,7 +488,7 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
         let tests: &RowTests<S, OBJECTS> = tests;
         let first_object =
             |ray: Option<Ray<S>>| seen(ray.and_then(|r| shader.first_object_in_row(&r, tests)));
-        match renderer.row_shading(shader, tests, &rays) {
+        match renderer.row_shading(shader, tests, &rays, None) {
             // The row's fast case in a loop of its own, as `render_area` has it; every ray
             // meets the row's plane.
             Some(shading) if shading.plain() => {

@@ -3,6 +3,9 @@
 //! Where a row's primary rays meet a plain plane whose normal has no x part (the floors and
 //! walls of the course's scenes) they all meet it at the same `t` (see
 //! [`RowTest::At`](crate::object::RowTest::At)), and their hit points differ only in `x`.
+//! So do the rays of a segment of the row that lies in a plain rectangle's run of columns
+//! ([`RowTest::AtAcross`](crate::object::RowTest::AtAcross)): there the rectangle, whose
+//! surface look-up is its plane's, is the segment's plane.
 //! Whatever reads only `y` and `z` is then the same at every pixel of the row, bit for bit:
 //! the hit's `y` and `z`, the plane's surface look-up, each light's `L . n` (the normal has
 //! no x part) and, in fixed point, whose sums of products are exact, the `y` and `z` share
@@ -28,7 +31,7 @@
 //! decided) costs spec0 about a third of the per-pixel path on a Cortex-M4F.
 
 use super::{MAX_DEPTH, Onward, Path, Shader, add_diffuse, glint, in_cone, reflect, with_ambient};
-use crate::hits::{Among, closest_hit_among, closest_hit_in_row, object_blocks, row_plane};
+use crate::hits::{Among, closest_hit_among, closest_hit_in_row, object_blocks, row_plane_within};
 use crate::light::Light;
 use crate::object::{Hit, RowEntry, RowOrigin, RowTest, Surface};
 use crate::plan::ShadowBoxes;
@@ -194,7 +197,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         if !self.shares_rows() {
             return None;
         }
-        self.shared_row_shading(row, origin, false)
+        self.shared_row_shading(row, origin, false, None)
     }
 
     /// Whether this shader's rows can be shaded together at all: not in `f64` (the
@@ -211,15 +214,18 @@ impl<'s, S: Scalar> Shader<'s, S> {
     }
 
     /// [`row_shading`](Self::row_shading) for a shader whose rows can be shared
-    /// ([`shares_rows`](Self::shares_rows)).
+    /// ([`shares_rows`](Self::shares_rows)); `within`, for the columns `[first, last]` of
+    /// the row only, where the runs of columns that hold them all are planes at one `t`
+    /// (see [`row_plane_within`]).
     pub(crate) fn shared_row_shading(
         &self,
         row: &[RowEntry<S>],
         origin: &RowOrigin<S>,
         by_boxes: bool,
+        within: Option<[u16; 2]>,
     ) -> Option<RowShading<'s, S>> {
         let shadows = self.stages.illumination && self.stages.shadows;
-        let (mut index, mut t, tested) = row_plane(row)?;
+        let (mut index, mut t, tested) = row_plane_within(row, within)?;
         // A ray of the row in all but `x`, whose hits have the row's `y` and `z`.
         let mut ray = Ray::new(origin.eye, Vec3::new(S::ZERO, origin.dy, origin.dz));
         let all_ignore_x = self.all_ignore_x();

@@ -23,7 +23,7 @@
 use crate::bvh::Bvh;
 use crate::camera::{Camera, RowRays};
 use crate::hits::Among;
-use crate::object::{Object, RowEntry, RowTest};
+use crate::object::{Object, RowEntry, RowTest, Shape};
 use crate::plan::{Plan, RowSpan, ShadowBoxes};
 use crate::ray::Ray;
 use crate::scalar::Scalar;
@@ -1044,9 +1044,9 @@ fn bytes<S: Scalar>(c: Vec3<S>) -> Rgb888 {
 /// The most entries of a row cut into segments by their column spans (more: shaded whole).
 const MAX_SPANNED: usize = 4;
 
-/// Whether some entry is a plain rectangle met in a run of columns ([`RowTest::AtAcross`]),
-/// whose segments can be shaded as its plane's (a textured one's cannot). Never built for
-/// size (rectangles have no runs there).
+/// Whether some entry is a rectangle met in a run of columns ([`RowTest::AtAcross`]), whose
+/// segments can be shaded as its plane's (a plain or a textured one). Never built for size
+/// (rectangles have no runs there).
 #[inline(always)]
 fn has_runs<S: Scalar>(objects: &[Object<S>], tests: &[RowEntry<S>]) -> bool {
     tests
@@ -1054,8 +1054,8 @@ fn has_runs<S: Scalar>(objects: &[Object<S>], tests: &[RowEntry<S>]) -> bool {
         .any(|entry| run_of_plane(objects, entry).is_some())
 }
 
-/// Whether a run of columns of a plain rectangle (see [`has_runs`]) holds the image
-/// columns `within` (first and last).
+/// Whether a run of columns of a rectangle (see [`has_runs`]) holds the image columns
+/// `within` (first and last).
 #[inline(always)]
 fn in_run<S: Scalar>(objects: &[Object<S>], tests: &[RowEntry<S>], within: [u16; 2]) -> bool {
     tests.iter().any(|entry| {
@@ -1064,13 +1064,15 @@ fn in_run<S: Scalar>(objects: &[Object<S>], tests: &[RowEntry<S>], within: [u16;
     })
 }
 
-/// The run of columns (first and last) of an entry that is a plain rectangle met in one.
+/// The run of columns (first and last) of an entry that is a plain or textured rectangle
+/// met in one.
 #[inline(always)]
 fn run_of_plane<S: Scalar>(objects: &[Object<S>], entry: &RowEntry<S>) -> Option<[u16; 2]> {
     #[cfg(all(feature = "plan", not(microray_small)))]
     if let RowTest::AtAcross { first, last, .. } = entry.test {
         let object = objects.get(usize::from(entry.index))?;
-        return object.surface_is_uniform().then_some([first, last]);
+        let textured = matches!(object.shape(), Shape::TexPlane(_));
+        return (object.surface_is_uniform() || textured).then_some([first, last]);
     }
     let _ = (objects, entry);
     None

@@ -23,7 +23,7 @@
 use crate::bvh::Bvh;
 use crate::camera::{Camera, RowRays};
 use crate::hits::Among;
-use crate::object::{Object, RowEntry, RowTest, Shape};
+use crate::object::{Object, RowEntry, RowTest};
 use crate::plan::{Plan, RowSpan, ShadowBoxes};
 use crate::ray::Ray;
 use crate::scalar::Scalar;
@@ -1071,7 +1071,7 @@ fn run_of_plane<S: Scalar>(objects: &[Object<S>], entry: &RowEntry<S>) -> Option
     #[cfg(all(feature = "plan", not(microray_small)))]
     if let RowTest::AtAcross { first, last, .. } = entry.test {
         let object = objects.get(usize::from(entry.index))?;
-        let textured = matches!(object.shape(), Shape::TexPlane(_));
+        let textured = matches!(object.shape(), crate::object::Shape::TexPlane(_));
         return (object.surface_is_uniform() || textured).then_some([first, last]);
     }
     let _ = (objects, entry);

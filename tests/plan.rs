@@ -282,12 +282,17 @@ mod random_rooms {
         (0..9u8, normal(), point(), 0..4usize)
     }
 
-    fn material() -> impl Strategy<Value = ([f64; 3], [f64; 3], f64, f64)> {
+    /// Diffuse, ambient, specular, shininess and transparency.
+    type Material = ([f64; 3], [f64; 3], f64, f64, f64);
+
+    fn material() -> impl Strategy<Value = Material> {
         (
             [0.0..4.0f64, 0.0..4.0f64, 0.0..4.0f64],
             prop_oneof![Just([0.0; 3]), Just([1.0; 3]), Just([0.5, 0.2, 0.1])],
             prop_oneof![Just(0.0), 0.2..0.9f64],
             prop_oneof![Just(0.0), 2.0..40.0f64],
+            // Transparent in one case of three: shadow rays walk through, taking filters.
+            prop_oneof![Just(0.0), Just(0.0), 0.2..0.8f64],
         )
     }
 
@@ -302,7 +307,7 @@ mod random_rooms {
 
     type Room = (
         Vec<(u8, [f64; 3], [f64; 3], usize)>,
-        Vec<([f64; 3], [f64; 3], f64, f64)>,
+        Vec<Material>,
         Vec<(bool, [f64; 3], [f64; 3], f64)>,
         [f64; 3],
     );
@@ -321,13 +326,16 @@ mod random_rooms {
         let materials: Vec<_> = materials
             .iter()
             .zip(NAMES)
-            .map(|(&(diffuse, ambient, specular, shininess), name)| {
-                MaterialDef::new(name)
-                    .diffuse(diffuse)
-                    .ambient(ambient)
-                    .specular(specular)
-                    .shininess(shininess)
-            })
+            .map(
+                |(&(diffuse, ambient, specular, shininess, transparency), name)| {
+                    MaterialDef::new(name)
+                        .diffuse(diffuse)
+                        .ambient(ambient)
+                        .specular(specular)
+                        .shininess(shininess)
+                        .transparency(transparency)
+                },
+            )
             .collect();
         let objects: Vec<_> = objects
             .iter()
@@ -401,16 +409,43 @@ mod random_rooms {
                 (1, [0.0, 0.0, 1.0], [0.0, 0.0, -6.0], 1),
             ],
             vec![
-                ([2.0; 3], [1.0; 3], 0.5, 0.0),
-                ([1.0, 3.0, 1.0], [0.0; 3], 0.0, 10.0),
-                ([1.0; 3], [0.0; 3], 0.0, 0.0),
-                ([1.0; 3], [0.0; 3], 0.0, 0.0),
+                ([2.0; 3], [1.0; 3], 0.5, 0.0, 0.0),
+                ([1.0, 3.0, 1.0], [0.0; 3], 0.0, 10.0, 0.0),
+                ([1.0; 3], [0.0; 3], 0.0, 0.0, 0.0),
+                ([1.0; 3], [0.0; 3], 0.0, 0.0, 0.0),
             ],
             vec![(false, [2.0, 8.0, 0.0], [4.0; 3], 0.0)],
             [4.0, 3.0, 4.0],
         );
         assert_eq!(check::<f32>(&room).unwrap(), 36);
         assert_eq!(check::<I16F16>(&room).unwrap(), 36);
+    }
+
+    /// So are rooms whose shadow rays pass through a transparent panel (as the course's
+    /// translucent scenes): a wall, a green pane before it, two lights.
+    #[test]
+    fn translucent_rooms_are_shaded_together() {
+        let room: Room = (
+            vec![
+                (0, [0.0, 0.0, 1.0], [0.0, 0.0, -8.0], 0),
+                (7, [0.0, 0.0, 1.0], [-1.0, -0.5, -5.0], 1),
+            ],
+            vec![
+                ([2.0; 3], [0.0; 3], 0.0, 0.0, 0.0),
+                ([0.0, 1.0, 0.25], [0.0; 3], 0.0, 0.0, 0.6),
+                ([1.0; 3], [0.0; 3], 0.0, 0.0, 0.0),
+                ([1.0; 3], [0.0; 3], 0.0, 0.0, 0.0),
+            ],
+            vec![
+                (false, [-4.0, 3.0, 3.0], [5.0; 3], 0.0),
+                (false, [4.0, 3.0, 3.0], [5.0; 3], 0.0),
+            ],
+            [0.0, 0.0, 8.0],
+        );
+        // Built for size, rows whose shadow rays take filters are shaded pixel by pixel.
+        let rows = if cfg!(microray_small) { 0 } else { 36 };
+        assert_eq!(check::<f32>(&room).unwrap(), rows);
+        assert_eq!(check::<I16F16>(&room).unwrap(), rows);
     }
 }
 

@@ -28,7 +28,7 @@ use crate::plan::{Plan, RowSpan, ShadowBoxes};
 use crate::ray::Ray;
 use crate::scalar::Scalar;
 use crate::scene::Scene;
-use crate::shade::{RowShading, Shader, ShadowCache};
+use crate::shade::{RowShading, RowShadows, Shader, ShadowCache};
 use crate::vec3::Vec3;
 use core::ops::ControlFlow;
 use embedded_graphics::pixelcolor::Rgb888;
@@ -1023,15 +1023,43 @@ fn shade_row<S: Scalar, C: From<Rgb888>>(
     row: &mut [C],
 ) {
     if shading.plain() {
-        for (slot, ray) in row.iter_mut().zip(rays) {
-            let c = ray.map_or(Vec3::ZERO, |ray| shader.shade_in_plain_row(shading, &ray));
-            *slot = bytes(c).into();
-        }
+        shade_plain_row(shader, shading, rays, row);
     } else {
-        for (slot, ray) in row.iter_mut().zip(rays) {
-            let c = ray.map_or(Vec3::ZERO, |ray| shader.shade_in_row(shading, tests, &ray));
-            *slot = bytes(c).into();
-        }
+        shade_row_testing(shader, shading, tests, rays, row);
+    }
+}
+
+/// [`shade_row`] for a plain row (every ray on the row's plane, every shadow decided).
+#[inline(never)]
+fn shade_plain_row<S: Scalar, C: From<Rgb888>>(
+    shader: &Shader<'_, S>,
+    shading: &RowShading<'_, S>,
+    rays: RowRays<S>,
+    row: &mut [C],
+) {
+    for (slot, ray) in row.iter_mut().zip(rays) {
+        let c = ray.map_or(Vec3::ZERO, |ray| shader.shade_in_plain_row(shading, &ray));
+        *slot = bytes(c).into();
+    }
+}
+
+/// [`shade_row`] for a row that is not plain: its shadow tests prepared first (see
+/// [`Shader::row_shadows`]). Out of line: the plain rows' loop (spec0's) keeps its stack.
+#[inline(never)]
+fn shade_row_testing<S: Scalar, C: From<Rgb888>>(
+    shader: &Shader<'_, S>,
+    shading: &RowShading<'_, S>,
+    tests: &[RowEntry<S>],
+    rays: RowRays<S>,
+    row: &mut [C],
+) {
+    let mut shadows = RowShadows::new();
+    shader.prepare_row_shadows(&mut shadows, shading);
+    for (slot, ray) in row.iter_mut().zip(rays) {
+        let c = ray.map_or(Vec3::ZERO, |ray| {
+            shader.shade_in_row(shading, &shadows, tests, &ray)
+        });
+        *slot = bytes(c).into();
     }
 }
 

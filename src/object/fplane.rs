@@ -239,6 +239,15 @@ impl<S: Scalar> Rect<S> {
         [self.u.dot(d), self.v.dot(d)]
     }
 
+    /// Whether a point of the plane lies within `0 <= q <= dimensions`, as
+    /// [`nearest`](Self::nearest) decides it for its hit.
+    #[inline(always)]
+    pub fn holds(&self, point: Vec3<S>) -> bool {
+        let [qx, qy] = self.local(point);
+        let [w, h] = self.dimensions;
+        qx >= S::ZERO && qx <= w && qy >= S::ZERO && qy <= h
+    }
+
     /// The plane's hit below `limit`, if it lies within `0 <= q <= dimensions`.
     #[cfg_attr(feature = "batch", inline(always))]
     #[cfg_attr(not(feature = "batch"), inline)]

@@ -45,7 +45,7 @@ use super::{RenderError, Rendered, Renderer, RowDone, RowTests, among, bytes};
 use crate::hits::Among;
 use crate::ray::Ray;
 use crate::scalar::Scalar;
-use crate::shade::{Shader, ShadowCache};
+use crate::shade::{RowShadows, Shader, ShadowCache};
 use crate::vec3::Vec3;
 use core::ops::ControlFlow;
 use embedded_graphics::pixelcolor::{Rgb888, RgbColor};
@@ -502,8 +502,12 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
                 }
             }
             Some(shading) => {
+                let mut shadows = RowShadows::new();
+                shader.prepare_row_shadows(&mut shadows, &shading);
                 for (p, ray) in sums.iter_mut().zip(rays) {
-                    let c = ray.map_or(Vec3::ZERO, |r| shader.shade_in_row(&shading, tests, &r));
+                    let c = ray.map_or(Vec3::ZERO, |r| {
+                        shader.shade_in_row(&shading, &shadows, tests, &r)
+                    });
                     p.add(bytes(c));
                     if objects {
                         p.object = first_object(ray);

@@ -59,6 +59,7 @@ mod row;
 pub use batch::BATCH;
 #[cfg(feature = "batch")]
 pub(crate) use blockers::LightBlockers;
+pub(crate) use row::RowShadows;
 pub use row::{ROW_LEVELS, ROW_LIGHTS, RowShading};
 
 pub use crate::ray::MAX_DISTANCE;

@@ -44,6 +44,9 @@ use crate::scalar::Scalar;
 use crate::vec3::Vec3;
 use core::ops::ControlFlow;
 
+mod shadows;
+pub(crate) use shadows::RowShadows;
+
 /// The most lights a [`RowShading`] holds (a scene with more shades each pixel alone).
 pub const ROW_LIGHTS: usize = 4;
 
@@ -417,20 +420,23 @@ impl<'s, S: Scalar> Shader<'s, S> {
 
     /// The colour seen along a primary ray of a row prepared by
     /// [`row_shading`](Self::row_shading) from the row's tests `tests`: what
-    /// [`primary_in_row`](Self::primary_in_row) gives.
+    /// [`primary_in_row`](Self::primary_in_row) gives. `shadows` are the row's (or the
+    /// segment's) shadow tests as [`row_shadows`](Self::row_shadows) prepares them, or
+    /// none (each pixel then tests its shadow rays against every object).
     #[inline]
-    pub fn shade_in_row(
+    pub(crate) fn shade_in_row(
         &self,
         row: &RowShading<'s, S>,
+        shadows: &RowShadows<'s, S>,
         tests: &[RowEntry<S>],
         ray: &Ray<S>,
     ) -> Vec3<S> {
         if row.tested {
-            self.shade_in_tested_row(row, tests, ray)
+            self.shade_in_tested_row(row, shadows, tests, ray)
         } else if row.plain() {
             self.shade_in_plain_row(row, ray)
         } else {
-            self.shade_testing_shadows(row, ray)
+            self.shade_testing_shadows(row, shadows, ray)
         }
     }
 
@@ -438,21 +444,27 @@ impl<'s, S: Scalar> Shader<'s, S> {
     #[inline(always)]
     pub(crate) fn shade_in_plain_row(&self, row: &RowShading<'s, S>, ray: &Ray<S>) -> Vec3<S> {
         // The first level in line (every pixel has it), the deeper ones out of line.
-        self.level(&row.levels, ray, S::ZERO, 0, false)
+        self.level(&row.levels, ray, S::ZERO, 0, None)
     }
 
     /// [`shade_in_row`](Self::shade_in_row) where each pixel tests some shadow rays.
     #[inline(never)]
-    fn shade_testing_shadows(&self, row: &RowShading<'s, S>, ray: &Ray<S>) -> Vec3<S> {
+    fn shade_testing_shadows(
+        &self,
+        row: &RowShading<'s, S>,
+        shadows: &RowShadows<'s, S>,
+        ray: &Ray<S>,
+    ) -> Vec3<S> {
+        let levels = &row.levels;
         if cfg!(microray_small) {
             // Built for size, the mirror rays' body serves these rows too.
-            self.deeper_level(&row.levels, ray, S::ZERO, 0, true)
+            self.deeper_level(levels, ray, S::ZERO, 0, Some(shadows))
         } else if row.filtered {
-            self.filtered_level(&row.levels, ray, row.textured)
+            self.filtered_level(levels, ray, row.textured)
         } else if row.textured {
-            self.textured_level(&row.levels, ray)
+            self.textured_level(levels, ray, shadows)
         } else {
-            self.level(&row.levels, ray, S::ZERO, 0, true)
+            self.level(levels, ray, S::ZERO, 0, Some(shadows))
         }
     }
 
@@ -460,8 +472,13 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// its own, out of line, so that the planes' copy carries no texel look-up (in it, one
     /// cost spec0 17 % more on the Cortex-M4F in `f32`).
     #[inline(never)]
-    fn textured_level(&self, levels: &[Level<'s, S>], ray: &Ray<S>) -> Vec3<S> {
-        self.level_of::<true, false>(levels, ray, S::ZERO, 0, true)
+    fn textured_level(
+        &self,
+        levels: &[Level<'s, S>],
+        ray: &Ray<S>,
+        shadows: &RowShadows<'s, S>,
+    ) -> Vec3<S> {
+        self.level_of::<true, false>(levels, ray, S::ZERO, 0, Some(shadows))
     }
 
     /// [`level`](Self::level) for a primary ray whose shadow rays take transparent
@@ -471,9 +488,9 @@ impl<'s, S: Scalar> Shader<'s, S> {
     #[inline(never)]
     fn filtered_level(&self, levels: &[Level<'s, S>], ray: &Ray<S>, textured: bool) -> Vec3<S> {
         if textured {
-            self.level_of::<true, true>(levels, ray, S::ZERO, 0, true)
+            self.level_of::<true, true>(levels, ray, S::ZERO, 0, Some(&RowShadows::new()))
         } else {
-            self.level_of::<false, true>(levels, ray, S::ZERO, 0, true)
+            self.level_of::<false, true>(levels, ray, S::ZERO, 0, Some(&RowShadows::new()))
         }
     }
 
@@ -483,12 +500,15 @@ impl<'s, S: Scalar> Shader<'s, S> {
     fn shade_in_tested_row(
         &self,
         row: &RowShading<'s, S>,
+        shadows: &RowShadows<'s, S>,
         tests: &[RowEntry<S>],
         ray: &Ray<S>,
     ) -> Vec3<S> {
         let first = row.levels.first().map(|level| level.index);
         match closest_hit_in_row(self.objects, tests, None, ray, self.z_limit) {
-            Some((index, _)) if Some(index) == first => self.shade_testing_shadows(row, ray),
+            Some((index, _)) if Some(index) == first => {
+                self.shade_testing_shadows(row, shadows, ray)
+            }
             Some((index, t)) => self.shade(ray, index, t, S::ZERO, Path::PRIMARY),
             None => Vec3::ZERO,
         }
@@ -496,9 +516,9 @@ impl<'s, S: Scalar> Shader<'s, S> {
 
     /// [`level`](Self::level) out of line, for the mirror rays (whose shadows the row
     /// decides: mirror levels are made only where every object ignores `x`, so they pass
-    /// `test_shadows` false). Built for size, the rows whose pixels test shadow rays take
-    /// this body too, with `test_shadows` true, instead of a copy of their own (912 bytes
-    /// of a Cortex-M0's flash; see docs/design.md, "Built for size").
+    /// no `shadows`). Built for size, the rows whose pixels test shadow rays take this
+    /// body too, with `shadows`, instead of a copy of their own (912 bytes of a Cortex-M0's
+    /// flash; see docs/design.md, "Built for size").
     #[inline(never)]
     fn deeper_level(
         &self,
@@ -506,14 +526,14 @@ impl<'s, S: Scalar> Shader<'s, S> {
         ray: &Ray<S>,
         total: S,
         depth: u8,
-        test_shadows: bool,
+        shadows: Option<&RowShadows<'s, S>>,
     ) -> Vec3<S> {
-        self.level(levels, ray, total, depth, test_shadows)
+        self.level(levels, ray, total, depth, shadows)
     }
 
     /// [`shade`](Self::shade) for a ray of the row at the first of `levels`, having come
-    /// `total` so far, at `depth`; `test_shadows` when the level may leave shadow rays to
-    /// each pixel.
+    /// `total` so far, at `depth`; `shadows` where the level may leave shadow rays to each
+    /// pixel (with the tests prepared for them).
     #[inline(always)]
     fn level(
         &self,
@@ -521,9 +541,9 @@ impl<'s, S: Scalar> Shader<'s, S> {
         ray: &Ray<S>,
         total: S,
         depth: u8,
-        test_shadows: bool,
+        shadows: Option<&RowShadows<'s, S>>,
     ) -> Vec3<S> {
-        self.level_of::<false, false>(levels, ray, total, depth, test_shadows)
+        self.level_of::<false, false>(levels, ray, total, depth, shadows)
     }
 
     /// [`level`](Self::level), `TEXTURED` for a level on a textured rectangle (its
@@ -536,7 +556,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         ray: &Ray<S>,
         total: S,
         depth: u8,
-        test_shadows: bool,
+        shadows: Option<&RowShadows<'s, S>>,
     ) -> Vec3<S> {
         let Some((level, deeper)) = levels.split_first() else {
             return Vec3::ZERO;
@@ -564,13 +584,13 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 material.ambient.mul_each(texel),
             );
             self.local_in_row::<true>(level, &hit, ray, total, colors, |lit, to_light| {
-                self.pixel_reach::<FILTERED>(lit, &hit, to_light, level.index, test_shadows)
+                self.pixel_reach::<FILTERED>(lit, &hit, to_light, level.index, shadows)
             })
-        } else if test_shadows || cfg!(microray_small) {
+        } else if shadows.is_some() || cfg!(microray_small) {
             // Built for size, one copy of the light loop, the test decided as it runs.
             let colors = (Vec3::ZERO, Vec3::ZERO);
             self.local_in_row::<false>(level, &hit, ray, total, colors, |lit, to_light| {
-                self.pixel_reach::<FILTERED>(lit, &hit, to_light, level.index, test_shadows)
+                self.pixel_reach::<FILTERED>(lit, &hit, to_light, level.index, shadows)
             })
         } else {
             let colors = (Vec3::ZERO, Vec3::ZERO);
@@ -589,7 +609,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 Mirror::Trace => self.follow(&reflected, &onward, onward.path.mirrored()),
                 // Where `trace` stops, or finds nothing.
                 _ if total > self.max_distance || depth + 1 > MAX_DEPTH => Vec3::ZERO,
-                Mirror::Level => self.deeper_level(deeper, &reflected, total, depth + 1, false),
+                Mirror::Level => self.deeper_level(deeper, &reflected, total, depth + 1, None),
                 _ => Vec3::ZERO,
             };
             c = c + seen.mul_each(material.specular);
@@ -600,10 +620,9 @@ impl<'s, S: Scalar> Shader<'s, S> {
         c
     }
 
-    /// What a pixel's shadow ray from `hit` (on the object at `index`) towards `lit` finds,
-    /// when the pixels `test_shadows` and this light's are left to them: `FILTERED`, the
-    /// walk through transparent objects (as `illuminate_divided` walks), else the first
-    /// blocker.
+    /// What a pixel's shadow ray from `hit` (on the object at `index`) towards `lit` finds, when the pixels test shadow rays (with
+    /// the segment's `shadows`) and this light's are left to them: `FILTERED`, the walk
+    /// through transparent objects (as `illuminate_divided` walks), else the first blocker.
     #[inline(always)]
     fn pixel_reach<const FILTERED: bool>(
         &self,
@@ -611,16 +630,17 @@ impl<'s, S: Scalar> Shader<'s, S> {
         hit: &Hit<S>,
         to_light: Vec3<S>,
         index: usize,
-        test_shadows: bool,
+        shadows: Option<&RowShadows<'s, S>>,
     ) -> Reach<S> {
-        if !(test_shadows && lit.shadow_per_pixel) {
-            Reach::Clear
-        } else if FILTERED && !cfg!(microray_small) {
+        let Some(shadows) = shadows.filter(|_| lit.shadow_per_pixel) else {
+            return Reach::Clear;
+        };
+        if FILTERED && !cfg!(microray_small) {
             match self.shadow_filter(&self.among, hit.point, to_light, S::ONE, index) {
                 Some(filter) => Reach::Through(filter),
                 None => Reach::Blocked,
             }
-        } else if self.blocked(hit.point, to_light, index, lit.light) {
+        } else if self.blocked_in_row(shadows, hit.point, to_light, index, lit) {
             Reach::Blocked
         } else {
             Reach::Clear
@@ -628,7 +648,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
     }
 
     /// [`local_divided`](Self::local_divided) with a level's lights, `reach` telling what
-    /// a light's shadow ray finds at this pixel; on a `TEXTURED` level,
+    /// a light's shadow ray finds at this pixel (given the light and the way to it); on a
+    /// `TEXTURED` level,
     /// `colors` are the pixel's diffuse and ambient colours (else not read).
     #[inline(always)]
     fn local_in_row<const TEXTURED: bool>(

@@ -1,0 +1,209 @@
+//! A segment's shadow tests, prepared once: what each pixel of a row's first level tests
+//! for the lights whose shadow rays it tests itself.
+//!
+//! A pixel of such a level sends its shadow ray from its hit, whose `y` and `z` are the
+//! row's, along `L = light - hit`, whose `y` and `z` are the row's too. An object that
+//! ignores `x` answers every pixel's ray as it answers the row's, so it is tested once: a
+//! blocker blocks the light for the whole segment, else it is left out. A rectangle whose
+//! normal has no x part (a panel standing across the row) meets every pixel's ray at the
+//! same `t`, bit for bit (its plane test reads only `y` and `z`: the normal's zero x part
+//! makes the x products zeros), and at a hit with the row's `y` and `z`; its test by each
+//! pixel is then the hit's `x` (`base.x + dir.x t`, as `Ray::at` has it) and whether the
+//! hit lies within ([`Rect::holds`]), where [`Rect::nearest`] makes a plane test, a
+//! division among it, and reads the whole hit. A rectangle never met along the row's ray
+//! (behind, beyond the light, parallel, or beyond the z rule) is left out. Any other
+//! object is tested by each pixel as before. The answer is [`Shader::blocked`]'s, whatever
+//! the order: a shadow ray is blocked when any object is in the way.
+
+use super::{ROW_LIGHTS, RowLight, RowShading};
+use crate::hits::object_blocks;
+use crate::object::{Object, Rect, Shape};
+use crate::plan::OCCLUDERS;
+use crate::ray::Ray;
+use crate::scalar::Scalar;
+use crate::shade::Shader;
+use crate::vec3::Vec3;
+use core::ops::ControlFlow;
+
+/// How each pixel of a segment tests one object that depends on `x`.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Occluder<'s, S: Scalar> {
+    /// A rectangle whose normal has no x part, met by every pixel's ray at `t`, where the
+    /// hit's `y` and `z` are these: whether the hit lies within.
+    Across { rect: &'s Rect<S>, t: S, y: S, z: S },
+    /// Each pixel's own test.
+    Each(&'s Object<S>),
+}
+
+/// What each pixel of a segment tests for one light.
+#[derive(Clone, Debug)]
+pub(super) enum LightShadows<'s, S: Scalar> {
+    /// Every object, as [`Shader::blocked`] tests them: the light is decided by the row,
+    /// more than [`OCCLUDERS`] objects depend on `x`, or no rectangle stands across the
+    /// row (the prepared tests would be each pixel's own).
+    Each,
+    /// An object that ignores `x` is in the way: no pixel sees the light.
+    Blocked,
+    /// These objects (none: the light reaches every pixel).
+    Tests(heapless::Vec<Occluder<'s, S>, OCCLUDERS, u8>),
+}
+
+/// The shadow tests of a segment of a row for the lights of its first level, by the
+/// light's place in the scene's list (rows are shaded together with at most
+/// [`ROW_LIGHTS`] lights; see the module's docs). Unprepared, every pixel tests each
+/// light's shadow ray as [`Shader::blocked`] does.
+#[derive(Clone, Debug)]
+pub(crate) struct RowShadows<'s, S: Scalar> {
+    lights: [LightShadows<'s, S>; ROW_LIGHTS],
+}
+
+impl<S: Scalar> RowShadows<'_, S> {
+    /// No prepared tests. Each light's tag written on its own: a constant array was
+    /// copied from flash whole for every segment (`memcpy`, spec1 1 % dearer).
+    #[inline(always)]
+    pub(crate) fn new() -> Self {
+        Self {
+            lights: core::array::from_fn(|_| LightShadows::Each),
+        }
+    }
+}
+
+impl<'s, S: Scalar> Shader<'s, S> {
+    /// Prepares into `shadows` (unprepared) the shadow tests of a row's (or a segment's)
+    /// first level for the lights its pixels test; none where the shadow rays take filters
+    /// (each pixel walks) or built for size (flash). In place (no copy of the lists).
+    pub(crate) fn prepare_row_shadows(
+        &self,
+        shadows: &mut RowShadows<'s, S>,
+        row: &RowShading<'s, S>,
+    ) {
+        let Some(level) = row.levels.first() else {
+            return;
+        };
+        if row.filtered || cfg!(microray_small) || !self.any_across() {
+            return;
+        }
+        let point = level.surface.hit.point;
+        for lit in level.lights.iter().filter(|lit| lit.shadow_per_pixel) {
+            if let Some(tests) = shadows.lights.get_mut(usize::from(lit.number)) {
+                self.light_shadows(tests, level.index, point, lit);
+            }
+        }
+    }
+
+    /// [`prepare_row_shadows`](Self::prepare_row_shadows) for one light, into `tests`,
+    /// from the row's hit `point` on the object at `own`.
+    fn light_shadows(
+        &self,
+        tests: &mut LightShadows<'s, S>,
+        own: usize,
+        point: Vec3<S>,
+        lit: &RowLight<'s, S>,
+    ) {
+        // The row's shadow ray: every pixel's in `y` and `z`.
+        let to_light = Vec3::new(lit.light.location.x - point.x, lit.to_y, lit.to_z);
+        let shadow = Ray::new(point, to_light);
+        let z_limit = self.z_limit;
+        *tests = LightShadows::Tests(heapless::Vec::new());
+        let LightShadows::Tests(list) = tests else {
+            return;
+        };
+        let mut decided = None;
+        let mut across_any = false;
+        let objects = self.objects;
+        self.among.each(objects, |index, _| {
+            // The scene's reference (the visit's lives only as long as the call).
+            let Some(object) = objects.get(index).filter(|_| index != own) else {
+                return ControlFlow::Continue(());
+            };
+            let test = if object.hits_ignore_x() {
+                if object_blocks(object, &shadow, S::ONE, z_limit) {
+                    decided = Some(LightShadows::Blocked);
+                    return ControlFlow::Break(());
+                }
+                return ControlFlow::Continue(());
+            } else if let Some(rect) = across(object) {
+                // The plane test of `Rect::nearest`, and its z rule.
+                let Some(t) = rect.plane.nearest_by_axis(&shadow, S::ONE) else {
+                    return ControlFlow::Continue(());
+                };
+                if !(shadow.base.z + shadow.dir.z * t <= z_limit) {
+                    return ControlFlow::Continue(());
+                }
+                let hit = shadow.at(t);
+                across_any = true;
+                Occluder::Across {
+                    rect,
+                    t,
+                    y: hit.y,
+                    z: hit.z,
+                }
+            } else {
+                Occluder::Each(object)
+            };
+            if list.push(test).is_err() {
+                decided = Some(LightShadows::Each);
+                return ControlFlow::Break(());
+            }
+            ControlFlow::Continue(())
+        });
+        if let Some(decided) = decided {
+            *tests = decided;
+        } else if !across_any && !list.is_empty() {
+            // No rectangle across the row: each pixel's own tests are as cheap.
+            *tests = LightShadows::Each;
+        }
+    }
+
+    /// Whether some object is a rectangle whose normal has no x part (else the prepared
+    /// tests would be each pixel's own: a scan of the objects, not of each light's).
+    fn any_across(&self) -> bool {
+        let mut any = false;
+        self.among.each(self.objects, |_, object| {
+            any = across(object).is_some();
+            if any {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        });
+        any
+    }
+
+    /// Whether the shadow ray from `point` along `to_light` (a pixel's, on the object at
+    /// `index`) towards `lit` is blocked, with the segment's prepared `shadows`: the answer
+    /// of [`blocked`](Self::blocked).
+    #[inline(always)]
+    pub(super) fn blocked_in_row(
+        &self,
+        shadows: &RowShadows<'s, S>,
+        point: Vec3<S>,
+        to_light: Vec3<S>,
+        index: usize,
+        lit: &RowLight<'s, S>,
+    ) -> bool {
+        let list = match shadows.lights.get(usize::from(lit.number)) {
+            Some(LightShadows::Tests(list)) => list,
+            Some(LightShadows::Blocked) => return true,
+            _ => return self.blocked(point, to_light, index, lit.light),
+        };
+        let shadow = Ray::new(point, to_light);
+        list.iter().any(|occluder| match *occluder {
+            // The hit as `ray.at(t)` has it.
+            Occluder::Across { rect, t, y, z } => {
+                rect.holds(Vec3::new(shadow.base.x + shadow.dir.x * t, y, z))
+            }
+            Occluder::Each(object) => object_blocks(object, &shadow, S::ONE, self.z_limit),
+        })
+    }
+}
+
+/// The rectangle of a finite or textured plane whose normal has no x part.
+fn across<S: Scalar>(object: &Object<S>) -> Option<&Rect<S>> {
+    let rect = match object.shape() {
+        Shape::FPlane(rect) => rect,
+        Shape::TexPlane(textured) => &textured.rect,
+        _ => return None,
+    };
+    (rect.plane.unit_normal.x == S::ZERO).then_some(rect)
+}

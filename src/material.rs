@@ -94,6 +94,8 @@ pub struct Material<S> {
     /// How many times the strongest channel of `filter` can be halved and stay at or above
     /// it: a transmitted ray weighs at most `2^-filter_halvings` of what reaches its hit.
     pub(crate) filter_halvings: u8,
+    /// Below this `h . n` a glint is nothing ([`Scalar::glint_floor`] of `shininess`).
+    pub(crate) glint_floor: S,
 }
 
 /// The largest `h` (up to 255) with every channel of `coefficient` at most `2^-h`: a ray
@@ -205,6 +207,7 @@ impl<S: Scalar> Material<S> {
             filter,
             reflects: specular != Vec3::ZERO,
             filter_halvings: halvings(filter),
+            glint_floor: S::glint_floor(shininess),
         }
     }
 

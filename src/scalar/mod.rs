@@ -196,6 +196,14 @@ pub trait Scalar:
     /// `self` to the power `exponent`, for glints; defined as 0 when `self <= 0` (where the
     /// course took `pow` of a negative dot product).
     fn pow_positive(self, exponent: Self) -> Self;
+    /// A value below which [`pow_wide`](Self::pow_wide) of any `self` with this exponent
+    /// is certainly `None` (a glint of exactly nothing), so that a glint need not compute
+    /// the power there; zero where the type does not say.
+    #[inline]
+    fn glint_floor(exponent: Self) -> Self {
+        let _ = exponent;
+        Self::ZERO
+    }
     /// The channel byte of a colour value: `self * 255` computed exactly (in `f64` for the
     /// float types), clamped to 0..=255 and truncated, as the course's images need.
     #[inline]
@@ -795,6 +803,18 @@ impl Scalar for f32 {
             0.0
         }
     }
+    /// `libm::powf` returns exactly zero (`1e-30 * 1e-30`) where its `exponent * log2(x)`
+    /// falls below -150, computed within far less than 1 of the true product. Below
+    /// `2^(-160 / exponent)` the true product is below -160: the power is zero, and so is
+    /// the glint. Taken a thousandth lower for `exp2f`'s rounding (tested against `powf`).
+    #[inline]
+    fn glint_floor(exponent: Self) -> Self {
+        if exponent > 0.0 {
+            libm::exp2f(-160.0 / exponent) * 0.999
+        } else {
+            0.0
+        }
+    }
     #[inline]
     fn floor_to_i32(self) -> i32 {
         floor_by_truncation!(self, f32, libm::floorf)
@@ -1037,6 +1057,37 @@ mod tests {
             values.push(scale((seed >> 11) as f64 / (1u64 << 53) as f64));
         }
         values
+    }
+
+    /// Below an `f32` glint's floor `powf` is exactly zero, for every exponent from the
+    /// course's scenes and others, at the values just below the floor and at random ones
+    /// below it; and the floor is not trivially low (at 250, the course's shininess, it
+    /// leaves out the cosines below 0.6).
+    #[test]
+    fn f32_powers_below_the_glint_floor_are_zero() {
+        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+        for y in [
+            1.0f32, 2.5, 10.0, 20.0, 50.0, 100.0, 200.0, 250.0, 1000.0, 1.0e6,
+        ] {
+            let floor = f32::glint_floor(y);
+            // (At 1 the floor, 2^-160, is below every f32: nothing is left out.)
+            assert!((0.0..1.0).contains(&floor), "{y}: floor {floor}");
+            if floor == 0.0 {
+                continue;
+            }
+            let mut x = floor;
+            for _ in 0..10_000 {
+                x = f32::from_bits(x.to_bits() - 1);
+                assert_eq!(libm::powf(x, y), 0.0, "{x:e}^{y} below the floor {floor:e}");
+            }
+            for _ in 0..100_000 {
+                xorshift(&mut seed);
+                let x = floor * ((seed >> 40) as f32 / (1u64 << 24) as f32);
+                assert_eq!(libm::powf(x, y), 0.0, "{x:e}^{y} below the floor {floor:e}");
+            }
+        }
+        assert!(f32::glint_floor(250.0) > 0.6);
+        assert_eq!(f32::glint_floor(0.0), 0.0);
     }
 
     #[test]

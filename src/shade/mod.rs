@@ -799,7 +799,12 @@ fn glint<S: Scalar>(
     let halfway = to_light
         .unit()
         .and_then(|l| (-dir).unit().and_then(|v| (v + l).unit()));
-    let power = halfway.and_then(|h| h.dot(normal).pow_wide(material.shininess));
+    // Below the material's floor the power is certainly nothing: not computed (`powf` is
+    // most of a glint).
+    let power = halfway
+        .map(|h| h.dot(normal))
+        .filter(|&x| !(x < material.glint_floor))
+        .and_then(|x| x.pow_wide(material.shininess));
     match power {
         Some(power) => {
             // `cfg!`: without projectors there is never a texel, and no code for one.

@@ -207,7 +207,12 @@ impl<S: Scalar> Material<S> {
             filter,
             reflects: specular != Vec3::ZERO,
             filter_halvings: halvings(filter),
-            glint_floor: S::glint_floor(shininess),
+            // Without glints, nothing reads it (and `f32`'s `exp2f` stays out of the flash).
+            glint_floor: if cfg!(feature = "glint") {
+                S::glint_floor(shininess)
+            } else {
+                S::ZERO
+            },
         }
     }
 

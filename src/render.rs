@@ -1030,7 +1030,9 @@ fn shade_row<S: Scalar, C: From<Rgb888>>(
 }
 
 /// [`shade_row`] for a plain row (every ray on the row's plane, every shadow decided).
-#[inline(never)]
+/// Built for size, in line (a function more was flash).
+#[cfg_attr(not(microray_small), inline(never))]
+#[cfg_attr(microray_small, inline(always))]
 fn shade_plain_row<S: Scalar, C: From<Rgb888>>(
     shader: &Shader<'_, S>,
     shading: &RowShading<'_, S>,
@@ -1044,8 +1046,10 @@ fn shade_plain_row<S: Scalar, C: From<Rgb888>>(
 }
 
 /// [`shade_row`] for a row that is not plain: its shadow tests prepared first (see
-/// [`Shader::row_shadows`]). Out of line: the plain rows' loop (spec0's) keeps its stack.
-#[inline(never)]
+/// [`Shader::prepare_row_shadows`]). Out of line: the plain rows' loop (spec0's) keeps its stack.
+/// Built for size (no tests prepared), in line.
+#[cfg_attr(not(microray_small), inline(never))]
+#[cfg_attr(microray_small, inline(always))]
 fn shade_row_testing<S: Scalar, C: From<Rgb888>>(
     shader: &Shader<'_, S>,
     shading: &RowShading<'_, S>,

@@ -54,8 +54,12 @@ pub(super) enum LightShadows<'s, S: Scalar> {
 /// light's shadow ray as [`Shader::blocked`] does.
 #[derive(Clone, Debug)]
 pub(crate) struct RowShadows<'s, S: Scalar> {
-    lights: [LightShadows<'s, S>; ROW_LIGHTS],
+    lights: [LightShadows<'s, S>; SHADOW_LIGHTS],
 }
+
+/// How many lights' tests a [`RowShadows`] holds: none built for size (where none are
+/// prepared, and the empty tests cost no flash to set up).
+const SHADOW_LIGHTS: usize = if cfg!(microray_small) { 0 } else { ROW_LIGHTS };
 
 impl<S: Scalar> RowShadows<'_, S> {
     /// No prepared tests. Each light's tag written on its own: a constant array was
@@ -182,6 +186,10 @@ impl<'s, S: Scalar> Shader<'s, S> {
         index: usize,
         lit: &RowLight<'s, S>,
     ) -> bool {
+        // Built for size, nothing is prepared: no code for the prepared tests.
+        if cfg!(microray_small) {
+            return self.blocked(point, to_light, index, lit.light);
+        }
         let list = match shadows.lights.get(usize::from(lit.number)) {
             Some(LightShadows::Tests(list)) => list,
             Some(LightShadows::Blocked) => return true,

@@ -260,9 +260,7 @@ impl<S: Scalar> Rect<S> {
         } else {
             ray.at(t)
         };
-        let [qx, qy] = self.local(point);
-        let [w, h] = self.dimensions;
-        (qx >= S::ZERO && qx <= w && qy >= S::ZERO && qy <= h).then_some(t)
+        self.holds(point).then_some(t)
     }
 
     /// The test of a row's primary rays when the plane's normal has no x part, in the
@@ -351,9 +349,7 @@ impl<S: Scalar> Rect<S> {
     #[cfg_attr(not(feature = "batch"), inline)]
     pub fn nearest_from(&self, distance: S, ray: &Ray<S>, limit: S) -> Option<S> {
         let t = self.plane.nearest_from(distance, ray.dir, limit)?;
-        let [qx, qy] = self.local(ray.at(t));
-        let [w, h] = self.dimensions;
-        (qx >= S::ZERO && qx <= w && qy >= S::ZERO && qy <= h).then_some(t)
+        self.holds(ray.at(t)).then_some(t)
     }
 
     /// The nearest hit as a hit record.

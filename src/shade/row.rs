@@ -421,8 +421,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// The colour seen along a primary ray of a row prepared by
     /// [`row_shading`](Self::row_shading) from the row's tests `tests`: what
     /// [`primary_in_row`](Self::primary_in_row) gives. `shadows` are the row's (or the
-    /// segment's) shadow tests as [`row_shadows`](Self::row_shadows) prepares them, or
-    /// none (each pixel then tests its shadow rays against every object).
+    /// segment's) shadow tests as [`prepare_row_shadows`](Self::prepare_row_shadows) leaves
+    /// them (unprepared, each pixel tests its shadow rays against every object).
     #[inline]
     pub(crate) fn shade_in_row(
         &self,
@@ -460,7 +460,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
             // Built for size, the mirror rays' body serves these rows too.
             self.deeper_level(levels, ray, S::ZERO, 0, Some(shadows))
         } else if row.filtered {
-            self.filtered_level(levels, ray, row.textured)
+            self.filtered_level(levels, ray, row.textured, shadows)
         } else if row.textured {
             self.textured_level(levels, ray, shadows)
         } else {
@@ -486,11 +486,17 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// line, apart from the others (sharing the textured one's function cost gallery 0.7 %
     /// more on the micro:bit).
     #[inline(never)]
-    fn filtered_level(&self, levels: &[Level<'s, S>], ray: &Ray<S>, textured: bool) -> Vec3<S> {
+    fn filtered_level(
+        &self,
+        levels: &[Level<'s, S>],
+        ray: &Ray<S>,
+        textured: bool,
+        shadows: &RowShadows<'s, S>,
+    ) -> Vec3<S> {
         if textured {
-            self.level_of::<true, true>(levels, ray, S::ZERO, 0, Some(&RowShadows::new()))
+            self.level_of::<true, true>(levels, ray, S::ZERO, 0, Some(shadows))
         } else {
-            self.level_of::<false, true>(levels, ray, S::ZERO, 0, Some(&RowShadows::new()))
+            self.level_of::<false, true>(levels, ray, S::ZERO, 0, Some(shadows))
         }
     }
 
@@ -620,9 +626,10 @@ impl<'s, S: Scalar> Shader<'s, S> {
         c
     }
 
-    /// What a pixel's shadow ray from `hit` (on the object at `index`) towards `lit` finds, when the pixels test shadow rays (with
-    /// the segment's `shadows`) and this light's are left to them: `FILTERED`, the walk
-    /// through transparent objects (as `illuminate_divided` walks), else the first blocker.
+    /// What a pixel's shadow ray from `hit` (on the object at `index`) towards `lit` finds,
+    /// when the pixels test shadow rays (with the segment's `shadows`) and this light's are
+    /// left to them: `FILTERED`, the walk through transparent objects (as
+    /// `illuminate_divided` walks), else the first blocker.
     #[inline(always)]
     fn pixel_reach<const FILTERED: bool>(
         &self,
@@ -649,8 +656,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
 
     /// [`local_divided`](Self::local_divided) with a level's lights, `reach` telling what
     /// a light's shadow ray finds at this pixel (given the light and the way to it); on a
-    /// `TEXTURED` level,
-    /// `colors` are the pixel's diffuse and ambient colours (else not read).
+    /// `TEXTURED` level, `colors` are the pixel's diffuse and ambient colours (else not
+    /// read).
     #[inline(always)]
     fn local_in_row<const TEXTURED: bool>(
         &self,

@@ -391,6 +391,16 @@ mod random_rooms {
             check::<I16F16>(&room)?;
         }
 
+        /// Rooms whose materials differ in their colours only (one finish: specular and
+        /// shininess), so that their checkerboards' rows are shaded together too (the
+        /// tiles' colours found by each pixel), where random finishes almost never agree.
+        #[test]
+        fn checkerboard_rows_change_no_pixel(room in room()) {
+            let room = one_finish(room);
+            check::<f32>(&room)?;
+            check::<I16F16>(&room)?;
+        }
+
         /// In `f64` the planned render drops the planes no shadow ray to a light can cross
         /// and clears lanes by the planes' sides and the balls' cones
         /// (`src/shade/blockers.rs`): the same pixels.
@@ -398,6 +408,48 @@ mod random_rooms {
         fn f64_blockers_change_no_pixel(room in room()) {
             check::<f64>(&room)?;
         }
+    }
+
+    /// `room` with every material's specular and shininess those of the first.
+    fn one_finish(mut room: Room) -> Room {
+        let (_, _, specular, shininess, _) = room.1[0];
+        for material in &mut room.1 {
+            (material.2, material.3) = (specular, shininess);
+        }
+        room
+    }
+
+    /// Rooms with a checkerboard floor are shaded together: a red and grey board (one
+    /// finish, as shiny3's), a wall, a ball and its shadow, two lights (one a spotlight),
+    /// and the same again behind a transparent pane (the showcase's: shadow rays take its
+    /// filter).
+    #[test]
+    fn checkerboard_rooms_are_shaded_together() {
+        let mut room: Room = (
+            vec![
+                (5, [0.0, 1.0, 0.0], [0.0, -1.0, -4.0], 0),
+                (0, [0.0, 0.0, 1.0], [0.0, 0.0, -9.0], 2),
+                (8, [0.0, 1.0, 0.0], [1.0, 0.0, -5.0], 3),
+            ],
+            vec![
+                ([3.0, 0.0, 0.0], [0.5, 0.2, 0.1], 0.3, 0.0, 0.0),
+                ([2.0; 3], [0.0; 3], 0.3, 0.0, 0.0),
+                ([1.0; 3], [1.0; 3], 0.0, 0.0, 0.0),
+                ([0.0, 1.0, 0.25], [0.0; 3], 0.0, 0.0, 0.6),
+            ],
+            vec![
+                (false, [2.0, 8.0, 0.0], [4.0; 3], 0.0),
+                (true, [-3.0, 6.0, -2.0], [3.0; 3], 40.0),
+            ],
+            [4.0, 3.0, 4.0],
+        );
+        // Built for size, only plain planes' rows are shaded together.
+        let rows = if cfg!(microray_small) { 0 } else { 36 };
+        assert_eq!(check::<f32>(&room).unwrap(), rows);
+        assert_eq!(check::<I16F16>(&room).unwrap(), rows);
+        room.0[2].0 = 7;
+        assert_eq!(check::<f32>(&room).unwrap(), rows);
+        assert_eq!(check::<I16F16>(&room).unwrap(), rows);
     }
 
     /// The rooms above do exercise rows shaded together (else the property is vacuous).

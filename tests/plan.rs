@@ -498,6 +498,14 @@ mod random_rooms {
         let rows = if cfg!(microray_small) { 0 } else { 36 };
         assert_eq!(check::<f32>(&room).unwrap(), rows);
         assert_eq!(check::<I16F16>(&room).unwrap(), rows);
+        // A glass ball between the wall and the pane, before the pane in the scene's list:
+        // a walk's first step must take the ball, the nearer, though the pane's prepared
+        // test comes after it (and hits too).
+        let mut room = room;
+        room.0.insert(1, (8, [0.0, 1.0, 0.0], [0.5, 0.5, -6.5], 2));
+        room.1[2] = ([1.0, 0.5, 0.0], [0.0; 3], 0.0, 0.0, 0.5);
+        assert_eq!(check::<f32>(&room).unwrap(), rows);
+        assert_eq!(check::<I16F16>(&room).unwrap(), rows);
     }
 }
 

@@ -711,7 +711,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         distance: S,
         left: usize,
     ) -> Option<Vec3<S>> {
-        let mut filter = Vec3::new(S::ONE, S::ONE, S::ONE);
+        let filter = Vec3::new(S::ONE, S::ONE, S::ONE);
         // One object that can block (a light's list, see `blockers`): one test, the walk's
         // first step; its second would skip that object and find nothing.
         #[cfg(feature = "batch")]
@@ -736,12 +736,31 @@ impl<'s, S: Scalar> Shader<'s, S> {
             }
             return Some(filter.mul_each(material.filter));
         }
+        let steps = self.objects.len().saturating_mul(2).saturating_add(1);
+        self.shadow_walk(among, from, l, distance, left, filter, steps)
+    }
+
+    /// [`shadow_filter`](Self::shadow_filter)'s walk from `from` (on the object at `left`)
+    /// with `distance` to go and the filters so far in `filter`, for at most `steps` more
+    /// steps (a walk whose first step was taken elsewhere goes on with one step less).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn shadow_walk(
+        &self,
+        among: &Among<'_, S>,
+        from: Vec3<S>,
+        l: Vec3<S>,
+        distance: S,
+        left: usize,
+        mut filter: Vec3<S>,
+        steps: usize,
+    ) -> Option<Vec3<S>> {
         let mut base = from;
         let mut skip = left;
         let mut remaining = distance;
         // Each step moves forward along the ray; the count only guards against a scene
         // that would make the walk revisit objects forever.
-        for _ in 0..=self.objects.len().saturating_mul(2) {
+        for _ in 0..steps {
             // The course's shadow rays are unit rays; the others run along `L` itself.
             let ray = if S::COURSE_ORDER {
                 Ray::with_length(base, l, S::ONE)

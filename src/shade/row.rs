@@ -659,7 +659,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
             return Reach::Clear;
         };
         if FILTERED && !cfg!(microray_small) {
-            match self.shadow_filter(&self.among, hit.point, to_light, S::ONE, index) {
+            match self.filter_in_row(shadows, hit.point, to_light, index, lit) {
                 Some(filter) => Reach::Through(filter),
                 None => Reach::Blocked,
             }

@@ -14,6 +14,13 @@
 //! (behind, beyond the light, parallel, or beyond the z rule) is left out. Any other
 //! object is tested by each pixel as before. The answer is [`Shader::blocked`]'s, whatever
 //! the order: a shadow ray is blocked when any object is in the way.
+//!
+//! Where shadow rays pass through transparent objects, taking their filters, the same tests
+//! make the first step of each pixel's walk (the nearest object met, in the scene's order),
+//! without the objects that ignore `x`: the row's planes (opaque, see `rows_take_filters`)
+//! are left out where the row's ray meets none of them, and a light one of them blocks is
+//! left to each pixel's whole walk. The walk goes on from the first object met as
+//! [`Shader::shadow_filter`] does.
 
 use super::{ROW_LIGHTS, RowLight, RowShading};
 use crate::hits::object_blocks;
@@ -38,13 +45,15 @@ pub(super) enum Occluder<'s, S: Scalar> {
 /// What each pixel of a segment tests for one light.
 #[derive(Clone, Debug)]
 pub(super) enum LightShadows<'s, S: Scalar> {
-    /// Every object, as [`Shader::blocked`] tests them: the light is decided by the row,
-    /// more than [`OCCLUDERS`] objects depend on `x`, or no rectangle stands across the
-    /// row (the prepared tests would be each pixel's own).
+    /// Every object, as [`Shader::blocked`] tests them (or as a walk through transparent
+    /// objects meets them): the light is decided by the row, more than [`OCCLUDERS`]
+    /// objects depend on `x`, no rectangle stands across the row (the prepared tests would
+    /// be each pixel's own), or, where shadow rays take filters, an object that ignores `x`
+    /// is in the way.
     Each,
     /// An object that ignores `x` is in the way: no pixel sees the light.
     Blocked,
-    /// These objects (none: the light reaches every pixel).
+    /// These objects, in the scene's order (none: the light reaches every pixel).
     Tests(heapless::Vec<Occluder<'s, S>, OCCLUDERS, u8>),
 }
 
@@ -74,8 +83,9 @@ impl<S: Scalar> RowShadows<'_, S> {
 
 impl<'s, S: Scalar> Shader<'s, S> {
     /// Prepares into `shadows` (unprepared) the shadow tests of a row's (or a segment's)
-    /// first level for the lights its pixels test; none where the shadow rays take filters
-    /// (each pixel walks) or built for size (flash). In place (no copy of the lists).
+    /// first level for the lights its pixels test; none built for size (flash). Where the
+    /// shadow rays take filters, the tests serve the first step of each pixel's walk (see
+    /// [`filter_in_row`](Self::filter_in_row)). In place (no copy of the lists).
     pub(crate) fn prepare_row_shadows(
         &self,
         shadows: &mut RowShadows<'s, S>,
@@ -84,25 +94,28 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let Some(level) = row.levels.first() else {
             return;
         };
-        if row.filtered || cfg!(microray_small) || !self.any_across() {
+        // A walk's first step is spared the objects that ignore `x` too.
+        if cfg!(microray_small) || !(row.filtered || self.any_across()) {
             return;
         }
         let point = level.surface.hit.point;
         for lit in level.lights.iter().filter(|lit| lit.shadow_per_pixel) {
             if let Some(tests) = shadows.lights.get_mut(usize::from(lit.number)) {
-                self.light_shadows(tests, level.index, point, lit);
+                self.light_shadows(tests, level.index, point, lit, row.filtered);
             }
         }
     }
 
     /// [`prepare_row_shadows`](Self::prepare_row_shadows) for one light, into `tests`,
-    /// from the row's hit `point` on the object at `own`.
+    /// from the row's hit `point` on the object at `own`; `filtered`, for the first step of
+    /// walks through transparent objects.
     fn light_shadows(
         &self,
         tests: &mut LightShadows<'s, S>,
         own: usize,
         point: Vec3<S>,
         lit: &RowLight<'s, S>,
+        filtered: bool,
     ) {
         // The row's shadow ray: every pixel's in `y` and `z`.
         let to_light = Vec3::new(lit.light.location.x - point.x, lit.to_y, lit.to_z);
@@ -122,7 +135,14 @@ impl<'s, S: Scalar> Shader<'s, S> {
             };
             let test = if object.hits_ignore_x() {
                 if object_blocks(object, &shadow, S::ONE, z_limit) {
-                    decided = Some(LightShadows::Blocked);
+                    // A walk may pass through transparent objects before it: each pixel's
+                    // own (rows whose walks take filters have only opaque such planes,
+                    // but the walk's later steps start elsewhere).
+                    decided = Some(if filtered {
+                        LightShadows::Each
+                    } else {
+                        LightShadows::Blocked
+                    });
                     return ControlFlow::Break(());
                 }
                 return ControlFlow::Continue(());
@@ -153,7 +173,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         });
         if let Some(decided) = decided {
             *tests = decided;
-        } else if !across_any && !list.is_empty() {
+        } else if !across_any && !list.is_empty() && !filtered {
             // No rectangle across the row: each pixel's own tests are as cheap.
             *tests = LightShadows::Each;
         }
@@ -203,6 +223,91 @@ impl<'s, S: Scalar> Shader<'s, S> {
             }
             Occluder::Each(object) => object_blocks(object, &shadow, S::ONE, self.z_limit),
         })
+    }
+
+    /// The object an occluder tests, and its place in the scene's list: found where a
+    /// pixel's walk meets it (not held in the occluder: an index beside it made every
+    /// test of a row's shadow rays dearer, Q16.16 on the Cortex-M4F 1 %).
+    fn occluder_object(&self, occluder: &Occluder<'s, S>) -> Option<(usize, &'s Object<S>)> {
+        let objects = self.objects;
+        match *occluder {
+            Occluder::Across { rect, .. } => objects
+                .iter()
+                .enumerate()
+                .find(|(_, object)| across(object).is_some_and(|r| core::ptr::eq(r, rect))),
+            Occluder::Each(object) => objects
+                .iter()
+                .enumerate()
+                .find(|(_, candidate)| core::ptr::eq(*candidate, object)),
+        }
+    }
+
+    /// What the shadow ray from `point` along `to_light` (a pixel's, on the object at
+    /// `index`) towards `lit` passes through, with the segment's prepared `shadows`: the
+    /// answer of [`shadow_filter`](Self::shadow_filter), `None` where an opaque object is
+    /// in the way, else the transparent objects' filters.
+    ///
+    /// Prepared, the walk's first step is the nearest hit among the light's tests, in the
+    /// scene's order as the closest-hit search meets them (a later one must be nearer):
+    /// the objects that ignore `x` meet none of the row's rays (else the light is left to
+    /// the walk itself), and a rectangle standing across the row is met at its `t` where
+    /// the hit lies within, `t` below the nearest so far as the plane test's own bound would
+    /// have it (its quotient is the same). From a transparent object's hit the walk goes on
+    /// as the general one, one step less to take.
+    #[inline(always)]
+    pub(super) fn filter_in_row(
+        &self,
+        shadows: &RowShadows<'s, S>,
+        point: Vec3<S>,
+        to_light: Vec3<S>,
+        index: usize,
+        lit: &RowLight<'s, S>,
+    ) -> Option<Vec3<S>> {
+        let list = match shadows.lights.get(usize::from(lit.number)) {
+            Some(LightShadows::Tests(list)) if !cfg!(microray_small) => list,
+            _ => return self.shadow_filter(&self.among, point, to_light, S::ONE, index),
+        };
+        let shadow = Ray::new(point, to_light);
+        let mut nearest = None;
+        let mut limit = S::ONE;
+        for occluder in list {
+            match *occluder {
+                Occluder::Across { rect, t, y, z } => {
+                    if t < limit && rect.holds(Vec3::new(shadow.base.x + shadow.dir.x * t, y, z)) {
+                        (nearest, limit) = (Some(occluder), t);
+                    }
+                }
+                Occluder::Each(object) => {
+                    if let Some(t) = object.hits(&shadow, limit)
+                        && shadow.base.z + shadow.dir.z * t <= self.z_limit
+                    {
+                        (nearest, limit) = (Some(occluder), t);
+                    }
+                }
+            }
+        }
+        let ones = Vec3::new(S::ONE, S::ONE, S::ONE);
+        let Some(found) = nearest else {
+            return Some(ones);
+        };
+        // The object met and its place in the scene's list (the walk's next step skips it).
+        let (found, object) = self.occluder_object(found)?;
+        let at = shadow.at(limit);
+        let material = self.palette.material(object.material_at(at))?;
+        if material.transparency == S::ZERO {
+            return None;
+        }
+        let steps = self.objects.len().saturating_mul(2);
+        let filter = ones.mul_each(material.filter);
+        self.shadow_walk(
+            &self.among,
+            at,
+            to_light,
+            S::ONE - limit,
+            found,
+            filter,
+            steps,
+        )
     }
 }
 

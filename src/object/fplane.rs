@@ -252,6 +252,15 @@ impl<S: Scalar> Rect<S> {
     #[cfg_attr(feature = "batch", inline(always))]
     #[cfg_attr(not(feature = "batch"), inline)]
     pub fn nearest(&self, ray: &Ray<S>, limit: S) -> Option<S> {
+        self.nearest_in_line(ray, limit)
+    }
+
+    /// [`nearest`](Self::nearest), always in line but built for size: for the kinds'
+    /// `hits`, where a test through the kind's table made two calls (the compiler keeps
+    /// `nearest`, which has other callers, out of line).
+    #[cfg_attr(not(microray_small), inline(always))]
+    #[cfg_attr(microray_small, inline)]
+    pub(crate) fn nearest_in_line(&self, ray: &Ray<S>, limit: S) -> Option<S> {
         let t = self.plane.nearest_by_axis(ray, limit)?;
         // The plane test read the ray one component a load (see `Ray::read_apart`) unless
         // it read one coordinate off an axis.
@@ -435,7 +444,7 @@ pub fn fplane_init<S: Scalar>(
 /// `hits` of a finite plane.
 pub fn fplane_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>, limit: S) -> Option<S> {
     match obj.shape() {
-        Shape::FPlane(rect) => rect.nearest(ray, limit),
+        Shape::FPlane(rect) => rect.nearest_in_line(ray, limit),
         _ => None,
     }
 }

@@ -122,7 +122,7 @@ pub fn texplane_init<S: Scalar>(
 /// `hits` of a textured plane: the rectangle's.
 pub fn texplane_hits<S: Scalar>(obj: &Object<S>, ray: &Ray<S>, limit: S) -> Option<S> {
     match obj.shape() {
-        Shape::TexPlane(textured) => textured.rect.nearest(ray, limit),
+        Shape::TexPlane(textured) => textured.rect.nearest_in_line(ray, limit),
         _ => None,
     }
 }

@@ -441,6 +441,11 @@ impl Scalar for I16F16 {
     fn next_up(self) -> Self {
         Self::from_bits(self.to_bits().saturating_add(1))
     }
+    /// The value in 1/256ths, floored, clamped to 16 bits.
+    #[inline]
+    fn order_key(self) -> i16 {
+        (self.to_bits() >> 8).clamp(i32::from(i16::MIN), i32::from(i16::MAX)) as i16
+    }
     #[inline]
     fn to_wide(self) -> Option<Wide> {
         let bits = self.to_bits();

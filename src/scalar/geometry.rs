@@ -55,8 +55,8 @@ pub(crate) fn narrow(v: crate::vec3::Vec3<f64>) -> crate::vec3::Vec3<Geo> {
     crate::vec3::Vec3::new(from_f64(v.x), from_f64(v.y), from_f64(v.z))
 }
 
-/// The geometry's value in `f64` (exact), for tests.
-#[cfg(test)]
+/// The geometry's value in `f64` (exact).
+#[cfg_attr(microray_small, allow(dead_code))]
 pub(crate) fn to_f64(value: Geo) -> f64 {
     #[cfg(feature = "geometry-f32")]
     {

@@ -294,6 +294,11 @@ pub trait Scalar:
     /// The next value above a positive one (the type's next step); other values stay.
     fn next_up(self) -> Self;
 
+    /// A coarse key of the value that never falls as the value grows (any key for NaN):
+    /// two bytes that bound a span of values conservatively (a value whose key lies below
+    /// a bound's key lies below the bound). The top 16 bits of the value's order.
+    fn order_key(self) -> i16;
+
     /// Whether `unit(v) . axis > cos` (a spotlight's cone, `axis` a unit vector): as the
     /// course writes it, `v` divided by its length first. Fixed point compares
     /// `v . axis > cos |v|` instead, which rounds less.
@@ -535,6 +540,13 @@ impl Scalar for f64 {
             self
         }
     }
+    /// The order of the bits (negative values' magnitude bits turned), its top 16.
+    #[inline]
+    fn order_key(self) -> i16 {
+        let bits = self.to_bits() as i64;
+        let ordered = bits ^ (((bits >> 63) as u64) >> 1) as i64;
+        (ordered >> 48) as i16
+    }
     #[inline]
     fn wide_mul(a: Self, b: Self) -> Self {
         a * b
@@ -756,6 +768,13 @@ impl Scalar for f32 {
         } else {
             self
         }
+    }
+    /// The order of the bits (negative values' magnitude bits turned), its top 16.
+    #[inline]
+    fn order_key(self) -> i16 {
+        let bits = self.to_bits() as i32;
+        let ordered = bits ^ (((bits >> 31) as u32) >> 1) as i32;
+        (ordered >> 16) as i16
     }
     #[inline]
     fn wide_mul(a: Self, b: Self) -> Self {

@@ -802,6 +802,23 @@ fn in_cone<S: Scalar>(light: &Light<S>, to_light: Vec3<S>) -> bool {
         .is_none_or(|spot| S::within_cone(-to_light, spot.axis, spot.cos_theta))
 }
 
+/// [`in_cone`] for the way from a spotlight whose `x` has its key ([`Scalar::order_key`])
+/// within `cone`, a row's span of it beyond which the way is certainly outside (see
+/// `row::cone_span`): a key outside is of a value beyond the span's ends. Out of line as
+/// `in_cone` (the light loops that call it keep their registers). Not built for size.
+#[cfg(not(microray_small))]
+#[inline(never)]
+fn in_cone_within<S: Scalar>(light: &Light<S>, to_light: Vec3<S>, cone: [i16; 2]) -> bool {
+    let key = (-to_light.x).order_key();
+    if key < cone[0] || key > cone[1] {
+        return false;
+    }
+    light
+        .spot
+        .as_ref()
+        .is_none_or(|spot| S::within_cone(-to_light, spot.axis, spot.cos_theta))
+}
+
 /// A light's Blinn-Phong glint at a hit seen along `dir`, times `k` (the division by the
 /// distance travelled): `emissivity specular (h . n)^shininess`, the power kept as a wide
 /// number until the end (Q16.16's absolute step times a bright light is visible); a

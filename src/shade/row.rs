@@ -35,9 +35,15 @@
 //! The row's fast case ([`RowShading::plain`]: every ray on the plane, every shadow
 //! decided) costs spec0 about a third of the per-pixel path on a Cortex-M4F.
 
-use super::{MAX_DEPTH, Onward, Path, Shader, add_diffuse, glint, in_cone, reflect, with_ambient};
+#[cfg(microray_small)]
+use super::in_cone;
+#[cfg(not(microray_small))]
+use super::in_cone_within;
+use super::{MAX_DEPTH, Onward, Path, Shader, add_diffuse, glint, reflect, with_ambient};
 use crate::hits::{Among, closest_hit_among, closest_hit_in_row, object_blocks, row_plane_within};
 use crate::light::Light;
+#[cfg(not(microray_small))]
+use crate::light::Spot;
 use crate::material::MaterialId;
 use crate::object::tiled_plane::TiledPlane;
 use crate::object::{Hit, Object, RowEntry, RowOrigin, RowTest, Shape, Surface, TexPlane};
@@ -76,6 +82,12 @@ struct RowLight<'s, S: Scalar> {
     /// Whether each pixel tests its shadow ray (some object in the way may depend on `x`);
     /// else the light is known to reach the whole row.
     shadow_per_pixel: bool,
+    /// A spotlight's span of the `x` of the way from it to a hit (`-L`, whose `y` and `z`
+    /// are the row's), as the keys of its ends ([`Scalar::order_key`]: two bytes each, in
+    /// the record's padding in Q16.16): beyond them the hit is certainly outside the cone
+    /// (see [`cone_span`]). Not built for size (flash).
+    #[cfg(not(microray_small))]
+    cone: [i16; 2],
 }
 
 /// Where a level's mirror rays go.
@@ -429,6 +441,13 @@ impl<'s, S: Scalar> Shader<'s, S> {
             }
             let lit = surface.diffuse.mul_each(light.diffuse_emissivity);
             let (to_y, to_z) = (light.location.y - point.y, light.location.z - point.z);
+            #[cfg(not(microray_small))]
+            let cone = match light.spot.as_ref() {
+                Some(spot) if cfg!(feature = "spotlight") => {
+                    cone_span(spot, -to_y, -to_z).map(S::order_key)
+                }
+                _ => [i16::MIN, i16::MAX],
+            };
             // Cannot fail: the row's shading is only made for at most `ROW_LIGHTS` lights.
             let _ = level.lights.push(RowLight {
                 light,
@@ -439,6 +458,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 squares: S::row_squares(to_y, to_z),
                 lit,
                 shadow_per_pixel,
+                #[cfg(not(microray_small))]
+                cone,
             });
         }
     }
@@ -697,7 +718,15 @@ impl<'s, S: Scalar> Shader<'s, S> {
             let Some(d_squared) = S::positive_row_square(to_light, lit.squares) else {
                 continue;
             };
-            if cfg!(feature = "spotlight") && light.spot.is_some() && !in_cone(light, to_light) {
+            // Built for size, no spans (flash): each pixel tests the cone.
+            #[cfg(microray_small)]
+            let outside =
+                cfg!(feature = "spotlight") && light.spot.is_some() && !in_cone(light, to_light);
+            #[cfg(not(microray_small))]
+            let outside = cfg!(feature = "spotlight")
+                && light.spot.is_some()
+                && !in_cone_within(light, to_light, lit.cone);
+            if outside {
                 continue;
             }
             let filter = match reach(lit, to_light) {
@@ -819,5 +848,197 @@ impl<'s, S: Scalar> Shader<'s, S> {
             }
         });
         all
+    }
+}
+
+/// The span of `x` beyond which the way `(x, y, z)` from a spotlight (its `y` and `z` a
+/// row's, `y` and `z` here) certainly leaves the cone as [`Scalar::within_cone`] tests it:
+/// outside, no pixel of the row needs the test; `[-MAX, MAX]` (every pixel tests) where the
+/// span is not worth finding or not safely found.
+///
+/// With `a` the axis and `k` the cosine, the exact cosine of the way's angle to the axis is
+/// `q(x) = (x a.x + c1) / sqrt(x^2 + c2)`, where `c1 = y a.y + z a.z` and `c2 = y^2 + z^2`.
+/// The type's test is off from `q > k` by at most `e`: `f32`'s, a unit, a reciprocal, a
+/// square root and two dot products, about `10 * 2^-24`; Q16.16's, `v . a` and `k |v|` each
+/// truncated once, `2 * 2^-16` in `v . a - k |v|`, so `2^-15 / |v|` in `q`, with `|v|` at
+/// least `sqrt(c2)`. Where `q(x)` is below `k - e` the test fails. With `k - e > 0` and
+/// `a.x^2 < (k - e)^2` (the row's line is not within the cone's directions), `q(x)^2 >= (k -
+/// e)^2` holds only between the roots of `(a.x^2 - (k - e)^2) x^2 + 2 a.x c1 x + c1^2 - (k -
+/// e)^2 c2`, which bound the span. Worked out in the plan's geometry type, the roots only
+/// where they are well conditioned (the discriminant a hundredth of its terms or more) and
+/// the span widened by a thousandth of its size, far beyond the roundings of either; `e` is
+/// taken four times over.
+#[cfg(not(microray_small))]
+fn cone_span<S: Scalar>(spot: &Spot<S>, y: S, z: S) -> [S; 2] {
+    cone_span_with(spot, y, z, true)
+}
+
+/// [`cone_span`], without its margins where `margins` is false (the tests' check that they
+/// are needed).
+#[cfg(not(microray_small))]
+fn cone_span_with<S: Scalar>(spot: &Spot<S>, y: S, z: S, margins: bool) -> [S; 2] {
+    use crate::scalar::geometry::{self, Geo, from_f64};
+    let room = if margins {
+        from_f64(1.0)
+    } else {
+        from_f64(0.0)
+    };
+    let every = [S::from_f64(-f64::MAX), S::from_f64(f64::MAX)];
+    let a = &spot.axis;
+    let (ax, ay, az) = (a.x.to_geo(), a.y.to_geo(), a.z.to_geo());
+    let (y, z) = (y.to_geo(), z.to_geo());
+    let c1 = y * ay + z * az;
+    let c2 = y * y + z * z;
+    if !(c2 > from_f64(1e-6)) {
+        return every;
+    }
+    let error = room
+        * (from_f64(4.0 * 10.0 / 16_777_216.0) + from_f64(4.0 / 32_768.0) / geometry::sqrt(c2));
+    let k = spot.cos_theta.to_geo() - error;
+    let a2 = ax * ax - k * k;
+    if !(k > from_f64(0.0) && a2 < from_f64(-1e-3)) {
+        return every;
+    }
+    let b = from_f64(2.0) * ax * c1;
+    let c = c1 * c1 - k * k * c2;
+    let terms = b * b + from_f64(4.0) * geometry::abs(a2 * c);
+    let disc = b * b - from_f64(4.0) * a2 * c;
+    if !(disc > from_f64(0.01) * terms) {
+        // No root: the row never enters the cone (a2 < 0), unless the discriminant is
+        // too near zero to tell.
+        return if disc < -from_f64(0.01) * terms {
+            [S::from_f64(f64::MAX), S::from_f64(-f64::MAX)]
+        } else {
+            every
+        };
+    }
+    let root = geometry::sqrt(disc);
+    // a2 < 0: the roots in increasing order.
+    let (low, high) = (
+        (-b + root) / (from_f64(2.0) * a2),
+        (-b - root) / (from_f64(2.0) * a2),
+    );
+    let size =
+        geometry::abs(low) + geometry::abs(high) + (geometry::abs(b) + root) / geometry::abs(a2);
+    let widen: Geo = room * (from_f64(1e-3) * size + from_f64(4.0 / 65_536.0));
+    let (low, high) = (
+        geometry::to_f64(low - widen),
+        geometry::to_f64(high + widen),
+    );
+    match (S::from_f64_checked(low), S::from_f64_checked(high)) {
+        (Some(low), Some(high)) => [low, high],
+        _ => every,
+    }
+}
+
+#[cfg(all(test, not(microray_small)))]
+mod tests {
+    use super::*;
+    use crate::scalar::I16F16;
+    use proptest::prelude::*;
+
+    /// A spotlight aimed along `aim` with half-angle `theta` degrees.
+    fn spot<S: Scalar>(aim: [f64; 3], theta: f64) -> Option<Spot<S>> {
+        let len = libm::sqrt(aim.iter().map(|c| c * c).sum());
+        (len > 1e-3).then(|| {
+            let v =
+                |c: [f64; 3]| Vec3::new(S::from_f64(c[0]), S::from_f64(c[1]), S::from_f64(c[2]));
+            Spot {
+                point: v(aim),
+                theta: S::from_f64(theta),
+                axis: v(aim.map(|c| c / len)),
+                cos_theta: S::from_f64(libm::cos(theta.to_radians())),
+            }
+        })
+    }
+
+    /// The ways `(x, y, z)` whose `x` has a key outside the span's: how many, or the first
+    /// that the type's own test puts inside the cone. The `x` are `xs` and, where the cone
+    /// meets the row (in `f64`), points from 2^-30 to 2^-2 either side of where it does.
+    fn check<S: Scalar>(
+        spot: &Spot<S>,
+        [y, z]: [f64; 2],
+        xs: &[f64],
+        margins: bool,
+    ) -> Result<usize, String> {
+        let (y, z) = (S::from_f64(y), S::from_f64(z));
+        let span = cone_span_with(spot, y, z, margins).map(S::order_key);
+        // The exact crossings of the stored cone, in `f64`.
+        let a = spot.axis.to_f64();
+        let (yf, zf, k) = (y.to_f64(), z.to_f64(), spot.cos_theta.to_f64());
+        let c1 = yf * a.y + zf * a.z;
+        let (qa, qb, qc) = (
+            a.x * a.x - k * k,
+            2.0 * a.x * c1,
+            c1 * c1 - k * k * (yf * yf + zf * zf),
+        );
+        let disc = qb * qb - 4.0 * qa * qc;
+        let mut all = xs.to_vec();
+        if disc > 0.0 && qa != 0.0 {
+            for root in [
+                (-qb + libm::sqrt(disc)) / (2.0 * qa),
+                (-qb - libm::sqrt(disc)) / (2.0 * qa),
+            ] {
+                for e in 2..=30 {
+                    let d = libm::ldexp(1.0, -e);
+                    all.extend([root - d, root + d, root * (1.0 - d), root * (1.0 + d)]);
+                }
+            }
+        }
+        let mut outside = 0;
+        for x in all {
+            let x = S::from_f64(x);
+            let key = x.order_key();
+            if key < span[0] || key > span[1] {
+                outside += 1;
+                if S::within_cone(Vec3::new(x, y, z), spot.axis, spot.cos_theta) {
+                    return Err(format!(
+                        "{}: x {x:?} (key {key}) outside {span:?} is in the cone",
+                        S::NAME
+                    ));
+                }
+            }
+        }
+        Ok(outside)
+    }
+
+    proptest! {
+        /// No way whose `x` lies beyond the span is inside the cone as `f32` and Q16.16 test
+        /// it, for spotlights aimed anywhere with half-angles up to 80 degrees, rows at any
+        /// height, and `x` near the cone's edges.
+        #[test]
+        fn ways_beyond_the_span_miss_the_cone(
+            aim in prop::array::uniform3(-1.0f64..1.0),
+            theta in 1.0f64..80.0,
+            row in prop::array::uniform2(-20.0f64..20.0),
+            xs in prop::collection::vec(-60.0f64..60.0, 16),
+        ) {
+            if let Some(spot) = spot::<f32>(aim, theta) {
+                check(&spot, row, &xs, true).map_err(TestCaseError::fail)?;
+            }
+            if let Some(spot) = spot::<I16F16>(aim, theta) {
+                check(&spot, row, &xs, true).map_err(TestCaseError::fail)?;
+            }
+        }
+    }
+
+    /// The spotlight scene's red light, down at the floor: most of a row lies beyond its
+    /// span, and without the span's margins some way at the cone's edge is wrongly left out.
+    #[test]
+    fn the_span_leaves_out_most_of_a_row_and_needs_its_margins() {
+        let red = spot::<f32>([4.0, -4.0, -3.0], 15.0).unwrap();
+        let xs: Vec<f64> = (0..400).map(|i| f64::from(i) * 0.05 - 10.0).collect();
+        // The floor 3 below the light, the row 2.5 in front of it.
+        let outside = check(&red, [-4.0, -2.5], &xs, true).unwrap();
+        assert!(outside > 300, "{outside}");
+        let fixed = spot::<I16F16>([4.0, -4.0, -3.0], 15.0).unwrap();
+        assert!(check(&fixed, [-4.0, -2.5], &xs, true).unwrap() > 300);
+        let mut wrong = 0;
+        for i in 0..200 {
+            let row = [-4.0 + f64::from(i) * 1e-3, -2.5 + f64::from(i) * 7e-4];
+            wrong += usize::from(check(&red, row, &xs, false).is_err());
+            wrong += usize::from(check(&fixed, row, &xs, false).is_err());
+        }
+        assert!(wrong > 0, "no way was wrongly left out without the margins");
     }
 }

@@ -813,10 +813,8 @@ fn in_cone_within<S: Scalar>(light: &Light<S>, to_light: Vec3<S>, cone: [i16; 2]
     if key < cone[0] || key > cone[1] {
         return false;
     }
-    light
-        .spot
-        .as_ref()
-        .is_none_or(|spot| S::within_cone(-to_light, spot.axis, spot.cos_theta))
+    // A call of its own: the test's registers are saved only where it is made.
+    in_cone(light, to_light)
 }
 
 /// A light's Blinn-Phong glint at a hit seen along `dir`, times `k` (the division by the

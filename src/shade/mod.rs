@@ -730,14 +730,32 @@ impl<'s, S: Scalar> Shader<'s, S> {
             if !(point.z <= self.z_limit) {
                 return Some(filter);
             }
-            let material = self.palette.material(object.material_at(point))?;
-            if material.transparency == S::ZERO {
-                return None;
-            }
-            return Some(filter.mul_each(material.filter));
+            return self.filtered_through(object, point, filter);
         }
-        let steps = self.objects.len().saturating_mul(2).saturating_add(1);
-        self.shadow_walk(among, from, l, distance, left, filter, steps)
+        self.shadow_walk(among, from, l, distance, left, filter, self.walk_steps())
+    }
+
+    /// The most steps a walk through transparent objects takes (it only guards against a
+    /// scene that would make the walk revisit objects forever).
+    #[inline(always)]
+    fn walk_steps(&self) -> usize {
+        self.objects.len().saturating_mul(2).saturating_add(1)
+    }
+
+    /// `filter` times the filter of `object`'s material at `point`, where a walk through
+    /// transparent objects meets it; `None` where it is opaque (or has no material).
+    #[inline(always)]
+    fn filtered_through(
+        &self,
+        object: &Object<S>,
+        point: Vec3<S>,
+        filter: Vec3<S>,
+    ) -> Option<Vec3<S>> {
+        let material = self.palette.material(object.material_at(point))?;
+        if material.transparency == S::ZERO {
+            return None;
+        }
+        Some(filter.mul_each(material.filter))
     }
 
     /// [`shadow_filter`](Self::shadow_filter)'s walk from `from` (on the object at `left`)
@@ -758,8 +776,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let mut base = from;
         let mut skip = left;
         let mut remaining = distance;
-        // Each step moves forward along the ray; the count only guards against a scene
-        // that would make the walk revisit objects forever.
+        // Each step moves forward along the ray (see `walk_steps`).
         for _ in 0..steps {
             // The course's shadow rays are unit rays; the others run along `L` itself.
             let ray = if S::COURSE_ORDER {
@@ -780,11 +797,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
             };
             let object = self.objects.get(index)?;
             let point = ray.at(t);
-            let material = self.palette.material(object.material_at(point))?;
-            if material.transparency == S::ZERO {
-                return None;
-            }
-            filter = filter.mul_each(material.filter);
+            filter = self.filtered_through(object, point, filter)?;
             base = point;
             skip = index;
             remaining = remaining - t;

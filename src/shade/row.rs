@@ -136,11 +136,10 @@ enum Pattern<'s, S: Scalar> {
     /// A textured rectangle: the material's colours times the texel under the hit.
     Texture(&'s TexPlane<S>),
     /// A tiled plane whose two materials differ in their colours only (see
-    /// `Shader::tiles_ambient`), its material, and whether either material has ambient
-    /// light: the colours of the tile under the hit.
+    /// `Shader::tiles_ambient`), and its material: the colours of the tile under the hit.
     /// (The materials are looked up by each pixel: held here, they made the levels of
     /// every row larger, and Q16.16's plane rows 1.3 % dearer on the Cortex-M4F.)
-    Tiles(&'s TiledPlane<S>, MaterialId, bool),
+    Tiles(&'s TiledPlane<S>, MaterialId),
 }
 
 /// The rays of one row meeting one plain plane at one `t`, and their mirror rays the next
@@ -331,12 +330,14 @@ impl<'s, S: Scalar> Shader<'s, S> {
             // A textured rectangle's run or a tiled plane: the primary rays' level only, its
             // colours found by each pixel (not built for size).
             let first = shading.levels.is_empty() && !cfg!(microray_small);
-            let pattern = match object.shape() {
-                Shape::TexPlane(textured) if first => Some(Pattern::Texture(textured)),
-                Shape::TiledPlane(tiled) if first => self
-                    .tiles_ambient(object, tiled)
-                    .map(|ambient| Pattern::Tiles(tiled, object.material(), ambient)),
-                _ => None,
+            // And whether either tile's material has ambient light.
+            let (pattern, tiles_ambient) = match object.shape() {
+                Shape::TexPlane(textured) if first => (Some(Pattern::Texture(textured)), false),
+                Shape::TiledPlane(tiled) if first => match self.tiles_ambient(object, tiled) {
+                    Some(ambient) => (Some(Pattern::Tiles(tiled, object.material())), ambient),
+                    None => (None, false),
+                },
+                _ => (None, false),
             };
             if !object.surface_is_uniform() && pattern.is_none() {
                 match shading.levels.last_mut() {
@@ -366,8 +367,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
                     glints: cfg!(feature = "glint")
                         && self.stages.glints
                         && material.shininess != S::ZERO,
-                    ambient: !surface.material.ambient.is_zero()
-                        || matches!(pattern, Some(Pattern::Tiles(_, _, true))),
+                    ambient: !surface.material.ambient.is_zero() || tiles_ambient,
                     transparent: self.transmits(material),
                     shadows_per_pixel: shadow_per_pixel,
                     by_boxes,
@@ -780,7 +780,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
                     material.ambient.mul_each(texel),
                 )
             }
-            Some(Pattern::Tiles(tiled, base, _)) => {
+            Some(Pattern::Tiles(tiled, base)) => {
                 let id = if tiled.is_alternate(hit.point) {
                     tiled.altmaterial
                 } else {

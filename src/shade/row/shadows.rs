@@ -293,12 +293,9 @@ impl<'s, S: Scalar> Shader<'s, S> {
         // The object met and its place in the scene's list (the walk's next step skips it).
         let (found, object) = self.occluder_object(found)?;
         let at = shadow.at(limit);
-        let material = self.palette.material(object.material_at(at))?;
-        if material.transparency == S::ZERO {
-            return None;
-        }
-        let steps = self.objects.len().saturating_mul(2);
-        let filter = ones.mul_each(material.filter);
+        let filter = self.filtered_through(object, at, ones)?;
+        // One step taken here.
+        let steps = self.walk_steps().saturating_sub(1);
         self.shadow_walk(
             &self.among,
             at,

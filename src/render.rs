@@ -27,6 +27,7 @@ use crate::object::{Object, RowEntry, RowTest};
 use crate::plan::{Plan, RowSpan, ShadowBoxes};
 use crate::ray::Ray;
 use crate::scalar::Scalar;
+use crate::scalar::geometry::Geo;
 use crate::scene::Scene;
 use crate::shade::{RowShading, RowShadows, Shader, ShadowCache};
 use crate::vec3::Vec3;
@@ -844,7 +845,10 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         row: &mut [C],
     ) {
         match shading {
-            Some(shading) => shade_row(shader, shading, tests, rays, row),
+            Some(shading) => {
+                let resolution = crate::plan::resolution(self.camera);
+                shade_row(shader, shading, tests, rays, row, resolution);
+            }
             #[cfg(feature = "batch")]
             None if self.shading == Shading::Color => {
                 shade_batches(shader, tests, rays, row);
@@ -1013,7 +1017,7 @@ fn shade_batches<S: Scalar, C: From<Rgb888>>(
 }
 
 /// The pixels of a row prepared for shading together (out of line: the loop keeps its
-/// registers to itself).
+/// registers to itself); `resolution` as [`crate::plan::resolution`] has it for the camera.
 #[inline(never)]
 fn shade_row<S: Scalar, C: From<Rgb888>>(
     shader: &Shader<'_, S>,
@@ -1021,11 +1025,12 @@ fn shade_row<S: Scalar, C: From<Rgb888>>(
     tests: &[RowEntry<S>],
     rays: RowRays<S>,
     row: &mut [C],
+    resolution: Geo,
 ) {
     if shading.plain() {
         shade_plain_row(shader, shading, rays, row);
     } else {
-        shade_row_testing(shader, shading, tests, rays, row);
+        shade_row_testing(shader, shading, tests, rays, row, resolution);
     }
 }
 
@@ -1056,9 +1061,10 @@ fn shade_row_testing<S: Scalar, C: From<Rgb888>>(
     tests: &[RowEntry<S>],
     rays: RowRays<S>,
     row: &mut [C],
+    resolution: Geo,
 ) {
     let mut shadows = RowShadows::new();
-    shader.prepare_row_shadows(&mut shadows, shading);
+    shader.prepare_row_shadows(&mut shadows, shading, resolution);
     for (slot, ray) in row.iter_mut().zip(rays) {
         let c = ray.map_or(Vec3::ZERO, |ray| {
             shader.shade_in_row(shading, &shadows, tests, &ray)

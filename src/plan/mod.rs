@@ -32,6 +32,7 @@ use heapless::Vec;
 mod shadows;
 #[cfg(all(test, feature = "animate"))]
 pub(crate) use shadows::cone_octagon;
+pub(crate) use shadows::widened_ball;
 pub use shadows::{BOXES, OCCLUDERS, ScreenBox, ShadowBoxes};
 #[cfg(feature = "animate")]
 pub(crate) use shadows::{
@@ -40,7 +41,7 @@ pub(crate) use shadows::{
 
 /// Angular widening of every bound, in radians: far above the direction error of any number
 /// type microray has (about 1e-5 for Q16.16).
-const ANGLE_MARGIN: Geo = 2e-3;
+pub(crate) const ANGLE_MARGIN: Geo = 2e-3;
 
 /// [`ANGLE_MARGIN`] for a moving picture's region (see [`crate::region`]): an eighth of
 /// it, where each margin adds a ring of pixels to trace about every change. With the eye

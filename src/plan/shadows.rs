@@ -351,18 +351,13 @@ pub(crate) fn widened_vertices<S: Scalar>(
     vertices: &mut [Vec3<Geo>; 8],
 ) -> Option<bool> {
     let margin = |points: &[Vec3<Geo>]| shadow_margin(points, l, resolution, angle);
-    let (center, radius) = match object.shape() {
-        Shape::Sphere(s) => (s.center.to_geo(), s.radius.to_geo()),
-        Shape::RevSurf(s) if cfg!(feature = "revsurf") => (s.center.to_geo(), s.bound.to_geo()),
+    let (center, r) = match object.shape() {
         Shape::FPlane(rect) => return slab(rect, l, &margin, vertices).map(|()| false),
         Shape::TexPlane(textured) => {
             return slab(&textured.rect, l, &margin, vertices).map(|()| false);
         }
-        _ => return None,
+        _ => widened_ball(object, l, resolution, angle)?,
     };
-    let reach = Vec3::new(radius, radius, radius);
-    let m = margin(&[center - reach, center + reach]);
-    let r = radius + m;
     // With `facing_the_light`, the octagon about the cone of shadow rays that meet the
     // ball, where the cone begins (see `cone_octagon`): its shadow is the ball's within 6 %
     // of its area, where a cube's is up to 1.6 times it (the plan's boxes keep the axis
@@ -375,6 +370,25 @@ pub(crate) fn widened_vertices<S: Scalar>(
         *v = center + Vec3::new(sign(4), sign(2), sign(1));
     }
     Some(false)
+}
+
+/// The ball holding `object` (a ball, or a surface of revolution's bounding ball) widened
+/// by the margins of its shadow's bounds from a light at `l` (see the module's docs),
+/// directions by `angle` radians: its centre and radius; `None` for other kinds.
+pub(crate) fn widened_ball<S: Scalar>(
+    object: &Object<S>,
+    l: Vec3<Geo>,
+    resolution: Geo,
+    angle: Geo,
+) -> Option<(Vec3<Geo>, Geo)> {
+    let (center, radius) = match object.shape() {
+        Shape::Sphere(s) => (s.center.to_geo(), s.radius.to_geo()),
+        Shape::RevSurf(s) if cfg!(feature = "revsurf") => (s.center.to_geo(), s.bound.to_geo()),
+        _ => return None,
+    };
+    let reach = Vec3::new(radius, radius, radius);
+    let m = shadow_margin(&[center - reach, center + reach], l, resolution, angle);
+    Some((center, radius + m))
 }
 
 /// The margin a shadow's bounds are widened by (narrowed by, for a certain umbra), for an

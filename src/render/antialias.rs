@@ -503,7 +503,8 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
             }
             Some(shading) => {
                 let mut shadows = RowShadows::new();
-                shader.prepare_row_shadows(&mut shadows, &shading);
+                let resolution = crate::plan::resolution(self.renderer.camera);
+                shader.prepare_row_shadows(&mut shadows, &shading, resolution);
                 for (p, ray) in sums.iter_mut().zip(rays) {
                     let c = ray.map_or(Vec3::ZERO, |r| {
                         shader.shade_in_row(&shading, &shadows, tests, &r)

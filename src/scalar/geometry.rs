@@ -25,6 +25,15 @@ pub type Geo = f32;
 /// Whether the geometry is worked out in `f32`.
 pub const SINGLE: bool = cfg!(feature = "geometry-f32");
 
+/// Whether the geometry's arithmetic is the target's float unit's (else software routines,
+/// 70 to 120 instructions each: bounds worth working out once a render may not be worth it
+/// once a row).
+pub(crate) const IN_HARDWARE: bool = if SINGLE {
+    super::HARD_FLOAT
+} else {
+    super::HARD_DOUBLE
+};
+
 /// `1 / sqrt 2`.
 #[cfg(not(feature = "geometry-f32"))]
 pub(crate) const FRAC_1_SQRT_2: Geo = core::f64::consts::FRAC_1_SQRT_2;

@@ -685,14 +685,14 @@ use floor_by_truncation;
 
 /// Whether the target has a floating-point unit: a float-to-integer conversion is then
 /// one instruction (`VCVT` on a Cortex-M4F), else a call into the soft-float routines.
-const HARD_FLOAT: bool = cfg!(any(
+pub(crate) const HARD_FLOAT: bool = cfg!(any(
     target_arch = "x86_64",
     target_arch = "aarch64",
     all(target_arch = "arm", target_abi = "eabihf")
 ));
 
 /// Whether the target has a double-precision floating-point unit.
-const HARD_DOUBLE: bool = cfg!(any(target_arch = "x86_64", target_arch = "aarch64"));
+pub(crate) const HARD_DOUBLE: bool = cfg!(any(target_arch = "x86_64", target_arch = "aarch64"));
 
 /// `floor(v * 255)` clamped to 0..=255 (NaN 0), exactly as the `f64` product gives it, with
 /// the float unit and no branch: `x = v 2^32` is exact (a power of two) and a whole number

@@ -877,29 +877,70 @@ fn cone_span<S: Scalar>(spot: &Spot<S>, y: S, z: S) -> [S; 2] {
 /// are needed).
 #[cfg(not(microray_small))]
 fn cone_span_with<S: Scalar>(spot: &Spot<S>, y: S, z: S, margins: bool) -> [S; 2] {
-    use crate::scalar::geometry::{self, Geo, from_f64};
+    use crate::scalar::geometry::{self, from_f64};
     let room = if margins {
         from_f64(1.0)
     } else {
         from_f64(0.0)
     };
-    let every = [S::from_f64(-f64::MAX), S::from_f64(f64::MAX)];
-    let a = &spot.axis;
-    let (ax, ay, az) = (a.x.to_geo(), a.y.to_geo(), a.z.to_geo());
     let (y, z) = (y.to_geo(), z.to_geo());
-    let c1 = y * ay + z * az;
     let c2 = y * y + z * z;
     if !(c2 > from_f64(1e-6)) {
-        return every;
+        return Crossing::Every.bounds();
     }
     let error = room
         * (from_f64(4.0 * 10.0 / 16_777_216.0) + from_f64(4.0 / 32_768.0) / geometry::sqrt(c2));
     let k = spot.cos_theta.to_geo() - error;
-    let a2 = ax * ax - k * k;
-    if !(k > from_f64(0.0) && a2 < from_f64(-1e-3)) {
-        return every;
+    crossing(spot.axis.to_geo(), k, [y, z], room).bounds()
+}
+
+/// Where the ways `(x, y, z)` of a row (see [`cone_span`]) can be within a cone.
+#[cfg_attr(microray_small, allow(dead_code))]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Crossing<S> {
+    /// Anywhere: the span is not worth finding or not safely found.
+    Every,
+    /// Nowhere: the row never enters the cone.
+    Never,
+    /// Only with `x` in this span (its ends included).
+    Within([S; 2]),
+}
+
+#[cfg_attr(microray_small, allow(dead_code))]
+impl<S: Scalar> Crossing<S> {
+    /// The span's ends, `[-MAX, MAX]` for every `x`, `[MAX, -MAX]` for none.
+    pub(super) fn bounds(self) -> [S; 2] {
+        let (low, high) = (S::from_f64(-f64::MAX), S::from_f64(f64::MAX));
+        match self {
+            Crossing::Every => [low, high],
+            Crossing::Never => [high, low],
+            Crossing::Within(span) => span,
+        }
     }
-    let b = from_f64(2.0) * ax * c1;
+}
+
+/// Where a row's ways `(x, y, z)` can have the exact cosine of their angle to the unit
+/// `axis` at `k` or above (see [`cone_span`]: `k` already less the error of the test the
+/// span stands for), the roots' conditioning checked and the span widened by `room`
+/// thousandths of its size.
+#[cfg_attr(microray_small, allow(dead_code))]
+pub(super) fn crossing<S: Scalar>(
+    a: Vec3<crate::scalar::geometry::Geo>,
+    k: crate::scalar::geometry::Geo,
+    [y, z]: [crate::scalar::geometry::Geo; 2],
+    room: crate::scalar::geometry::Geo,
+) -> Crossing<S> {
+    use crate::scalar::geometry::{self, Geo, from_f64};
+    let c1 = y * a.y + z * a.z;
+    let c2 = y * y + z * z;
+    if !(c2 > from_f64(1e-6)) {
+        return Crossing::Every;
+    }
+    let a2 = a.x * a.x - k * k;
+    if !(k > from_f64(0.0) && a2 < from_f64(-1e-3)) {
+        return Crossing::Every;
+    }
+    let b = from_f64(2.0) * a.x * c1;
     let c = c1 * c1 - k * k * c2;
     let terms = b * b + from_f64(4.0) * geometry::abs(a2 * c);
     let disc = b * b - from_f64(4.0) * a2 * c;
@@ -907,9 +948,9 @@ fn cone_span_with<S: Scalar>(spot: &Spot<S>, y: S, z: S, margins: bool) -> [S; 2
         // No root: the row never enters the cone (a2 < 0), unless the discriminant is
         // too near zero to tell.
         return if disc < -from_f64(0.01) * terms {
-            [S::from_f64(f64::MAX), S::from_f64(-f64::MAX)]
+            Crossing::Never
         } else {
-            every
+            Crossing::Every
         };
     }
     let root = geometry::sqrt(disc);
@@ -926,8 +967,8 @@ fn cone_span_with<S: Scalar>(spot: &Spot<S>, y: S, z: S, margins: bool) -> [S; 2
         geometry::to_f64(high + widen),
     );
     match (S::from_f64_checked(low), S::from_f64_checked(high)) {
-        (Some(low), Some(high)) => [low, high],
-        _ => every,
+        (Some(low), Some(high)) => Crossing::Within([low, high]),
+        _ => Crossing::Every,
     }
 }
 

@@ -11,8 +11,13 @@
 //! pixel is then the hit's `x` (`base.x + dir.x t`, as `Ray::at` has it) and whether the
 //! hit lies within ([`Rect::holds`]), where [`Rect::nearest`] makes a plane test, a
 //! division among it, and reads the whole hit. A rectangle never met along the row's ray
-//! (behind, beyond the light, parallel, or beyond the z rule) is left out. Any other
-//! object is tested by each pixel as before. The answer is [`Shader::blocked`]'s, whatever
+//! (behind, beyond the light, parallel, or beyond the z rule) is left out. A ball or a
+//! surface of revolution is tested only by the pixels whose shadow ray's direction lies
+//! within the cone from the light that touches the ball holding it, widened as the shadow
+//! boxes are ([`crate::plan::ShadowBoxes`]): all the row's rays lie in one plane through
+//! the light, and their directions' `x` inside the cone make one span, found once a row
+//! (where the geometry's floats are the target's own: in software floats the span costs
+//! more than it spares). Any other object is tested by each pixel as before. The answer is [`Shader::blocked`]'s, whatever
 //! the order: a shadow ray is blocked when any object is in the way.
 //!
 //! Where shadow rays pass through transparent objects, taking their filters, the same tests
@@ -22,12 +27,13 @@
 //! left to each pixel's whole walk. The walk goes on from the first object met as
 //! [`Shader::shadow_filter`] does.
 
-use super::{ROW_LIGHTS, RowLight, RowShading};
+use super::{Crossing, ROW_LIGHTS, RowLight, RowShading, crossing};
 use crate::hits::object_blocks;
 use crate::object::{Object, Rect, Shape};
-use crate::plan::OCCLUDERS;
+use crate::plan::{ANGLE_MARGIN, OCCLUDERS, widened_ball};
 use crate::ray::Ray;
 use crate::scalar::Scalar;
+use crate::scalar::geometry::{self, Geo};
 use crate::shade::Shader;
 use crate::vec3::Vec3;
 use core::ops::ControlFlow;
@@ -38,8 +44,14 @@ pub(super) enum Occluder<'s, S: Scalar> {
     /// A rectangle whose normal has no x part, met by every pixel's ray at `t`, where the
     /// hit's `y` and `z` are these: whether the hit lies within.
     Across { rect: &'s Rect<S>, t: S, y: S, z: S },
-    /// Each pixel's own test.
-    Each(&'s Object<S>),
+    /// Each pixel's own test, where its shadow ray's direction has its `x` in `reach` (its
+    /// ends included; every `x` but for a ball or a surface of revolution: see
+    /// [`ball_crossing`]). One kind for both: a third made the pixels' loop dearer (the
+    /// Cortex-M0's fplane3 +4 %).
+    Each {
+        object: &'s Object<S>,
+        reach: [S; 2],
+    },
 }
 
 /// What each pixel of a segment tests for one light.
@@ -86,37 +98,50 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// first level for the lights its pixels test; none built for size (flash). Where the
     /// shadow rays take filters, the tests serve the first step of each pixel's walk (see
     /// [`filter_in_row`](Self::filter_in_row)). In place (no copy of the lists).
+    ///
+    /// `resolution` is the number type's for the render's camera
+    /// ([`crate::plan::resolution`]): the balls' margins.
     pub(crate) fn prepare_row_shadows(
         &self,
         shadows: &mut RowShadows<'s, S>,
         row: &RowShading<'s, S>,
+        resolution: Geo,
     ) {
         let Some(level) = row.levels.first() else {
             return;
         };
         // A walk's first step is spared the objects that ignore `x` too.
-        if cfg!(microray_small) || !(row.filtered || self.any_across()) {
+        if cfg!(microray_small) || !(row.filtered || self.any_prepared()) {
             return;
         }
         let point = level.surface.hit.point;
         for lit in level.lights.iter().filter(|lit| lit.shadow_per_pixel) {
             if let Some(tests) = shadows.lights.get_mut(usize::from(lit.number)) {
-                self.light_shadows(tests, level.index, point, lit, row.filtered);
+                let row = Prepared {
+                    own: level.index,
+                    point,
+                    filtered: row.filtered,
+                    resolution,
+                };
+                self.light_shadows(tests, &row, lit);
             }
         }
     }
 
-    /// [`prepare_row_shadows`](Self::prepare_row_shadows) for one light, into `tests`,
-    /// from the row's hit `point` on the object at `own`; `filtered`, for the first step of
-    /// walks through transparent objects.
+    /// [`prepare_row_shadows`](Self::prepare_row_shadows) for one light, into `tests`, for
+    /// the `row`.
     fn light_shadows(
         &self,
         tests: &mut LightShadows<'s, S>,
-        own: usize,
-        point: Vec3<S>,
+        row: &Prepared<S>,
         lit: &RowLight<'s, S>,
-        filtered: bool,
     ) {
+        let &Prepared {
+            own,
+            point,
+            filtered,
+            resolution,
+        } = row;
         // The row's shadow ray: every pixel's in `y` and `z`.
         let to_light = Vec3::new(lit.light.location.x - point.x, lit.to_y, lit.to_z);
         let shadow = Ray::new(point, to_light);
@@ -126,7 +151,9 @@ impl<'s, S: Scalar> Shader<'s, S> {
             return;
         };
         let mut decided = None;
-        let mut across_any = false;
+        // Whether some object is left to fewer than every pixel (else each pixel's own
+        // tests are as cheap as the prepared ones).
+        let mut narrowed = false;
         let objects = self.objects;
         self.among.each(objects, |index, _| {
             // The scene's reference (the visit's lives only as long as the call).
@@ -155,7 +182,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
                     return ControlFlow::Continue(());
                 }
                 let hit = shadow.at(t);
-                across_any = true;
+                narrowed = true;
                 Occluder::Across {
                     rect,
                     t,
@@ -163,7 +190,20 @@ impl<'s, S: Scalar> Shader<'s, S> {
                     z: hit.z,
                 }
             } else {
-                Occluder::Each(object)
+                let way = [lit.to_y, lit.to_z];
+                match ball_crossing(object, lit.light.location, way, resolution, true) {
+                    Crossing::Never => {
+                        narrowed = true;
+                        return ControlFlow::Continue(());
+                    }
+                    crossing => {
+                        narrowed |= crossing != Crossing::Every;
+                        Occluder::Each {
+                            object,
+                            reach: crossing.bounds(),
+                        }
+                    }
+                }
             };
             if list.push(test).is_err() {
                 decided = Some(LightShadows::Each);
@@ -173,18 +213,21 @@ impl<'s, S: Scalar> Shader<'s, S> {
         });
         if let Some(decided) = decided {
             *tests = decided;
-        } else if !across_any && !list.is_empty() && !filtered {
-            // No rectangle across the row: each pixel's own tests are as cheap.
+        } else if !narrowed && !list.is_empty() && !filtered {
+            // Every object left to every pixel: each pixel's own tests are as cheap.
             *tests = LightShadows::Each;
         }
     }
 
-    /// Whether some object is a rectangle whose normal has no x part (else the prepared
-    /// tests would be each pixel's own: a scan of the objects, not of each light's).
-    fn any_across(&self) -> bool {
+    /// Whether some object is a rectangle whose normal has no x part or a ball (else the
+    /// prepared tests would be each pixel's own: a scan of the objects, not of each
+    /// light's).
+    fn any_prepared(&self) -> bool {
         let mut any = false;
         self.among.each(self.objects, |_, object| {
-            any = across(object).is_some();
+            any = across(object).is_some()
+                || geometry::IN_HARDWARE
+                    && matches!(object.shape(), Shape::Sphere(_) | Shape::RevSurf(_));
             if any {
                 ControlFlow::Break(())
             } else {
@@ -221,7 +264,13 @@ impl<'s, S: Scalar> Shader<'s, S> {
             Occluder::Across { rect, t, y, z } => {
                 rect.holds(Vec3::new(shadow.base.x + shadow.dir.x * t, y, z))
             }
-            Occluder::Each(object) => object_blocks(object, &shadow, S::ONE, self.z_limit),
+            Occluder::Each {
+                object,
+                reach: [low, high],
+            } => {
+                within(to_light.x, low, high)
+                    && object_blocks(object, &shadow, S::ONE, self.z_limit)
+            }
         })
     }
 
@@ -235,7 +284,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 .iter()
                 .enumerate()
                 .find(|(_, object)| across(object).is_some_and(|r| core::ptr::eq(r, rect))),
-            Occluder::Each(object) => objects
+            Occluder::Each { object, .. } => objects
                 .iter()
                 .enumerate()
                 .find(|(_, candidate)| core::ptr::eq(*candidate, object)),
@@ -277,7 +326,10 @@ impl<'s, S: Scalar> Shader<'s, S> {
                         (nearest, limit) = (Some(occluder), t);
                     }
                 }
-                Occluder::Each(object) => {
+                Occluder::Each {
+                    reach: [low, high], ..
+                } if !within(to_light.x, low, high) => {}
+                Occluder::Each { object, .. } => {
                     if let Some(t) = object.hits(&shadow, limit)
                         && shadow.base.z + shadow.dir.z * t <= self.z_limit
                     {
@@ -308,6 +360,71 @@ impl<'s, S: Scalar> Shader<'s, S> {
     }
 }
 
+/// Whether `x` is within `[low, high]` (NaN is), where the reaches can be narrower than
+/// every `x` (else no test: the Cortex-M0's shadow tests 1.5 % dearer).
+#[inline(always)]
+fn within<S: Scalar>(x: S, low: S, high: S) -> bool {
+    !geometry::IN_HARDWARE || !(x < low || x > high)
+}
+
+/// A row's part in [`Shader::light_shadows`]: the object its first level is on (`own`), the
+/// level's hit (`point`), whether the pixels' shadow rays walk through transparent objects
+/// (`filtered`), the balls' margins (`resolution`, as [`crate::plan::resolution`] has it).
+struct Prepared<S> {
+    own: usize,
+    point: Vec3<S>,
+    filtered: bool,
+    resolution: Geo,
+}
+
+/// Where a row's shadow rays towards a light at `light` can meet `object`, a ball or a
+/// surface of revolution, the rays' directions' `y` and `z` being `[to_y, to_z]`: in the
+/// directions from the light within the cone that touches the ball holding it, widened as
+/// the shadow boxes widen it ([`widened_ball`]; without, where `margins` is false: the
+/// tests' check that they are needed). The ways from the light to the row's hits are
+/// `-to_light`, so the span of their `x` is turned into one of the shadow rays'
+/// directions' `x`, `[-high, -low]`. Every pixel tests a light inside the ball or nearly.
+fn ball_crossing<S: Scalar>(
+    object: &Object<S>,
+    light: Vec3<S>,
+    [to_y, to_z]: [S; 2],
+    resolution: Geo,
+    margins: bool,
+) -> Crossing<S> {
+    use crate::scalar::geometry::{from_f64, sqrt};
+    // In software floats, a row's cone costs more than its pixels' tests it spares (the
+    // Cortex-M0: spec1 +12 %).
+    if !geometry::IN_HARDWARE {
+        return Crossing::Every;
+    }
+    let l = light.to_geo();
+    let angle = if margins { ANGLE_MARGIN } else { 0.0 };
+    let Some((center, mut radius)) = widened_ball(object, l, resolution, angle) else {
+        return Crossing::Every;
+    };
+    if !margins {
+        radius = match object.shape() {
+            Shape::Sphere(ball) => ball.radius.to_geo(),
+            _ => radius,
+        };
+    }
+    let way = center - l;
+    let d2 = way.dot(way);
+    // The light well outside the ball: the cone's half-angle below about 80 degrees.
+    if !(radius * radius < from_f64(0.97) * d2) {
+        return Crossing::Every;
+    }
+    let d = sqrt(d2);
+    let axis = way * (from_f64(1.0) / d);
+    let k = sqrt(d2 - radius * radius) / d;
+    let (y, z) = (-to_y.to_geo(), -to_z.to_geo());
+    let room = if margins { 1.0 } else { 0.0 };
+    match crossing::<S>(axis, k, [y, z], from_f64(room)) {
+        Crossing::Within([low, high]) => Crossing::Within([-high, -low]),
+        other => other,
+    }
+}
+
 /// The rectangle of a finite or textured plane whose normal has no x part.
 fn across<S: Scalar>(object: &Object<S>) -> Option<&Rect<S>> {
     let rect = match object.shape() {
@@ -316,4 +433,130 @@ fn across<S: Scalar>(object: &Object<S>) -> Option<&Rect<S>> {
         _ => return None,
     };
     (rect.plane.unit_normal.x == S::ZERO).then_some(rect)
+}
+
+#[cfg(all(test, not(microray_small)))]
+mod tests {
+    use super::*;
+    use crate::object::ObjectDef;
+    use crate::scalar::I16F16;
+    use proptest::prelude::*;
+
+    /// The `x` where the way from `l` along `(x, y, z)` touches the ball `(c, r)`, in `f64`.
+    fn edges(l: [f64; 3], c: [f64; 3], r: f64, [y, z]: [f64; 2]) -> Vec<f64> {
+        let w: Vec<f64> = (0..3).map(|i| c[i] - l[i]).collect();
+        let d2: f64 = w.iter().map(|v| v * v).sum();
+        if r * r >= d2 {
+            return Vec::new();
+        }
+        let d = libm::sqrt(d2);
+        let a: Vec<f64> = w.iter().map(|v| v / d).collect();
+        let k = libm::sqrt(d2 - r * r) / d;
+        let c1 = y * a[1] + z * a[2];
+        let (qa, qb, qc) = (
+            a[0] * a[0] - k * k,
+            2.0 * a[0] * c1,
+            c1 * c1 - k * k * (y * y + z * z),
+        );
+        let disc = qb * qb - 4.0 * qa * qc;
+        if !(disc > 0.0 && qa != 0.0) {
+            return Vec::new();
+        }
+        vec![
+            (-qb + libm::sqrt(disc)) / (2.0 * qa),
+            (-qb - libm::sqrt(disc)) / (2.0 * qa),
+        ]
+    }
+
+    /// The row's hits `(x, y, z)` (its `y` and `z` the row's, the `x` from `xs` and about
+    /// the ball's edges as seen from the light) whose shadow ray the reach leaves out: how
+    /// many, or the first that `object` blocks in the type's own test.
+    fn check<S: Scalar>(
+        def: &ObjectDef<'_>,
+        (center, radius): ([f64; 3], f64),
+        light: [f64; 3],
+        [y, z]: [f64; 2],
+        xs: &[f64],
+        margins: bool,
+    ) -> Result<usize, String> {
+        let object =
+            Object::<S>::build(def, |_| Some(0), |_| None, 1.0).map_err(|e| format!("{e:?}"))?;
+        let v = |c: [f64; 3]| Vec3::new(S::from_f64(c[0]), S::from_f64(c[1]), S::from_f64(c[2]));
+        let l = v(light);
+        let (y, z) = (S::from_f64(y), S::from_f64(z));
+        let way = [l.y - y, l.z - z];
+        let resolution = crate::scalar::geometry::from_f64(S::MIN_NORMAL);
+        let Crossing::Within([low, high]) = ball_crossing(&object, l, way, resolution, margins)
+        else {
+            return Ok(0);
+        };
+        let mut all = xs.to_vec();
+        let row = [-way[0].to_f64(), -way[1].to_f64()];
+        for edge in edges(light, center, radius, row) {
+            let x = edge + light[0];
+            for e in 2..=30 {
+                let d = libm::ldexp(1.0, -e);
+                all.extend([x - d, x + d, x * (1.0 - d), x * (1.0 + d)]);
+            }
+        }
+        let mut outside = 0;
+        for x in all {
+            let point = Vec3::new(S::from_f64(x), y, z);
+            let to_light = Vec3::new(l.x - point.x, way[0], way[1]);
+            if within(to_light.x, low, high) {
+                continue;
+            }
+            outside += 1;
+            if object_blocks(&object, &Ray::new(point, to_light), S::ONE, S::UNBOUNDED) {
+                return Err(format!(
+                    "{}: x {x} (to_light.x {:?}) outside [{low:?}, {high:?}] is blocked",
+                    S::NAME,
+                    to_light.x
+                ));
+            }
+        }
+        Ok(outside)
+    }
+
+    proptest! {
+        /// No row's shadow ray that the reach leaves out meets the ball, as `f32` and
+        /// Q16.16 test it, for balls and lights anywhere, rows at any height and depth, and
+        /// hits about the ball's edges as seen from the light.
+        #[test]
+        fn rays_beyond_the_reach_miss_the_ball(
+            center in prop::array::uniform3(-5.0f64..5.0),
+            radius in 0.05f64..2.0,
+            light in prop::array::uniform3(-8.0f64..8.0),
+            row in prop::array::uniform2(-8.0f64..8.0),
+            xs in prop::collection::vec(-20.0f64..20.0, 16),
+        ) {
+            let def = ObjectDef::sphere("b", "m", center, radius);
+            check::<f32>(&def, (center, radius), light, row, &xs, true)
+                .map_err(TestCaseError::fail)?;
+            check::<I16F16>(&def, (center, radius), light, row, &xs, true)
+                .map_err(TestCaseError::fail)?;
+        }
+    }
+
+    /// A ball between a light overhead and a floor: most of a row under it is left out,
+    /// and without the margins some ray grazing the ball is wrongly left out.
+    #[test]
+    fn the_reach_leaves_out_most_of_a_row_and_needs_its_margins() {
+        let (center, radius) = ([1.0, 1.0, -4.0], 0.7);
+        let def = ObjectDef::sphere("b", "m", center, radius);
+        let light = [0.5, 5.0, -2.0];
+        let xs: Vec<f64> = (0..400).map(|i| f64::from(i) * 0.05 - 10.0).collect();
+        let outside = check::<f32>(&def, (center, radius), light, [0.0, -5.0], &xs, true).unwrap();
+        assert!(outside > 300, "{outside}");
+        let fixed = check::<I16F16>(&def, (center, radius), light, [0.0, -5.0], &xs, true);
+        assert!(fixed.unwrap() > 300);
+        let mut wrong = 0;
+        for i in 0..200 {
+            let row = [f64::from(i) * 1e-3, -5.0 + f64::from(i) * 7e-4];
+            let f = check::<f32>(&def, (center, radius), light, row, &xs, false);
+            let q = check::<I16F16>(&def, (center, radius), light, row, &xs, false);
+            wrong += usize::from(f.is_err()) + usize::from(q.is_err());
+        }
+        assert!(wrong > 0, "no ray was wrongly left out without the margins");
+    }
 }

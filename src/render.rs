@@ -1065,9 +1065,19 @@ fn shade_row_testing<S: Scalar, C: From<Rgb888>>(
 ) {
     let mut shadows = RowShadows::new();
     shader.prepare_row_shadows(&mut shadows, shading, resolution);
+    // Asked once a row (see `Shader::shade_in_row_of`); built for size, no projector's copy.
+    if shading.projected() && !cfg!(microray_small) {
+        for (slot, ray) in row.iter_mut().zip(rays) {
+            let c = ray.map_or(Vec3::ZERO, |ray| {
+                shader.shade_in_row_of::<true>(shading, &shadows, tests, &ray)
+            });
+            *slot = bytes(c).into();
+        }
+        return;
+    }
     for (slot, ray) in row.iter_mut().zip(rays) {
         let c = ray.map_or(Vec3::ZERO, |ray| {
-            shader.shade_in_row(shading, &shadows, tests, &ray)
+            shader.shade_in_row_of::<false>(shading, &shadows, tests, &ray)
         });
         *slot = bytes(c).into();
     }

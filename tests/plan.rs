@@ -254,10 +254,10 @@ mod random_rooms {
     //! (see `Renderer::shades_row_together`) give the pixels of the render without a plan,
     //! in the types that shade rows together.
     use super::image;
-    use microray::object::{ObjectDef, RectDef};
+    use microray::object::{ObjectDef, RectDef, TextureMode};
     use microray::render::Renderer;
     use microray::scalar::I16F16;
-    use microray::{CameraDef, LightDef, MaterialDef, Scalar, Scene};
+    use microray::{CameraDef, LightDef, MaterialDef, Scalar, Scene, TextureDef};
     use proptest::prelude::*;
 
     const NAMES: [&str; 4] = ["a", "b", "c", "d"];
@@ -296,9 +296,10 @@ mod random_rooms {
         )
     }
 
-    fn light() -> impl Strategy<Value = (bool, [f64; 3], [f64; 3], f64)> {
+    /// A point light (0), a spotlight (1) or a projector (2).
+    fn light() -> impl Strategy<Value = (u8, [f64; 3], [f64; 3], f64)> {
         (
-            any::<bool>(),
+            0..3u8,
             [-6.0..10.0f64, 0.5..12.0f64, -6.0..4.0f64],
             [1.0..8.0f64, 1.0..8.0f64, 1.0..8.0f64],
             10.0..80.0f64,
@@ -308,9 +309,18 @@ mod random_rooms {
     type Room = (
         Vec<(u8, [f64; 3], [f64; 3], usize)>,
         Vec<Material>,
-        Vec<(bool, [f64; 3], [f64; 3], f64)>,
+        Vec<(u8, [f64; 3], [f64; 3], f64)>,
         [f64; 3],
     );
+
+    /// The projectors' slide: a 4x3 binary PPM of twelve colours.
+    fn slide_ppm() -> Vec<u8> {
+        let mut ppm = b"P6\n4 3\n255\n".to_vec();
+        for i in 0..12u8 {
+            ppm.extend([40 + i * 17, 250 - i * 19, 90 + i * 13]);
+        }
+        ppm
+    }
 
     fn room() -> impl Strategy<Value = Room> {
         (
@@ -356,18 +366,28 @@ mod random_rooms {
             .collect();
         let lights: Vec<_> = lights
             .iter()
-            .map(|&(spot, at, emissivity, theta)| {
-                if spot {
-                    LightDef::spot("l", at, emissivity, [at[0], 0.0, at[2] - 2.0], theta)
-                } else {
-                    LightDef::point("l", at, emissivity)
+            .map(|&(kind, at, emissivity, theta)| match kind {
+                1 => LightDef::spot("l", at, emissivity, [at[0], 0.0, at[2] - 2.0], theta),
+                // A slide a little below and ahead of the light, facing along z: it lights
+                // what lies beyond it, its texels from the slide's image.
+                2 => {
+                    let corner = [at[0] - 1.0, at[1] - 1.5, at[2] - 1.0];
+                    let rect = RectDef::new([0.0, 0.0, 1.0], corner, [1.0, 0.0, 0.0], [2.0, 1.5]);
+                    LightDef::projector("l", at, emissivity, rect, "slide", TextureMode::Fit)
                 }
+                _ => LightDef::point("l", at, emissivity),
             })
             .collect();
+        let ppm = slide_ppm();
+        let textures = [TextureDef {
+            name: "slide",
+            filename: "slide.ppm",
+            ppm: &ppm,
+        }];
         let camera = CameraDef::new("c", [48, 36], [8.0, 6.0], *eye);
-        let Ok(scene) =
-            Scene::<'_, S, 4, 4, 4, 0, 48>::from_defs(&camera, &materials, &[], &lights, &objects)
-        else {
+        let Ok(scene) = Scene::<'_, S, 4, 4, 4, 1, 48>::from_defs(
+            &camera, &materials, &textures, &lights, &objects,
+        ) else {
             // Rejected for this type (a tiled plane's xdir along its normal, ...).
             return Ok(0);
         };
@@ -438,8 +458,8 @@ mod random_rooms {
                 ([0.0, 1.0, 0.25], [0.0; 3], 0.0, 0.0, 0.6),
             ],
             vec![
-                (false, [2.0, 8.0, 0.0], [4.0; 3], 0.0),
-                (true, [-3.0, 6.0, -2.0], [3.0; 3], 40.0),
+                (0, [2.0, 8.0, 0.0], [4.0; 3], 0.0),
+                (1, [-3.0, 6.0, -2.0], [3.0; 3], 40.0),
             ],
             [4.0, 3.0, 4.0],
         );
@@ -466,11 +486,42 @@ mod random_rooms {
                 ([1.0; 3], [0.0; 3], 0.0, 0.0, 0.0),
                 ([1.0; 3], [0.0; 3], 0.0, 0.0, 0.0),
             ],
-            vec![(false, [2.0, 8.0, 0.0], [4.0; 3], 0.0)],
+            vec![(0, [2.0, 8.0, 0.0], [4.0; 3], 0.0)],
             [4.0, 3.0, 4.0],
         );
         assert_eq!(check::<f32>(&room).unwrap(), 36);
         assert_eq!(check::<I16F16>(&room).unwrap(), 36);
+    }
+
+    /// So are rooms lit by a projector (as the vases' scene): a floor, a wall, a ball and
+    /// a glass ball, a projector throwing its slide over them and a point light; each
+    /// pixel finds its texel on the slide. Without the slide's look-up in the rows, the
+    /// pixels it lights would differ.
+    #[test]
+    fn projected_rooms_are_shaded_together() {
+        let room: Room = (
+            vec![
+                (0, [0.0, 1.0, 0.0], [0.0, -1.0, -4.0], 0),
+                (0, [0.0, 0.0, 1.0], [0.0, 0.0, -8.0], 1),
+                (8, [0.0, 1.0, 0.0], [0.5, 0.0, -5.0], 2),
+                (8, [0.0, 1.0, 0.0], [-2.0, 0.5, -6.0], 3),
+            ],
+            vec![
+                ([2.0; 3], [0.2; 3], 0.0, 0.0, 0.0),
+                ([1.5; 3], [0.0; 3], 0.0, 20.0, 0.0),
+                ([3.0, 2.0, 1.0], [0.0; 3], 0.0, 0.0, 0.0),
+                ([0.5, 1.0, 2.0], [0.0; 3], 0.0, 0.0, 0.5),
+            ],
+            vec![
+                (2, [0.0, 4.0, 2.0], [40.0; 3], 0.0),
+                (0, [3.0, 8.0, 0.0], [4.0; 3], 0.0),
+            ],
+            [0.0, 1.0, 6.0],
+        );
+        // Built for size, rows lit by a projector are shaded pixel by pixel.
+        let rows = if cfg!(microray_small) { 0 } else { 36 };
+        assert_eq!(check::<f32>(&room).unwrap(), rows);
+        assert_eq!(check::<I16F16>(&room).unwrap(), rows);
     }
 
     /// So are rooms whose shadow rays pass through a transparent panel (as the course's
@@ -489,8 +540,8 @@ mod random_rooms {
                 ([1.0; 3], [0.0; 3], 0.0, 0.0, 0.0),
             ],
             vec![
-                (false, [-4.0, 3.0, 3.0], [5.0; 3], 0.0),
-                (false, [4.0, 3.0, 3.0], [5.0; 3], 0.0),
+                (0, [-4.0, 3.0, 3.0], [5.0; 3], 0.0),
+                (0, [4.0, 3.0, 3.0], [5.0; 3], 0.0),
             ],
             [0.0, 0.0, 8.0],
         );

@@ -70,20 +70,26 @@ impl ScreenBox {
 pub struct ShadowBoxes {
     /// How many objects depend on `x`.
     occluders: u8,
-    /// The boxes: a light's (by its place in the scene's list) on one receiving plane (by
-    /// index), one for each occluder (all or none).
-    entries: Vec<Entry, BOXES, u8>,
+    /// The lights (by their place in the scene's list) and receiving planes (by index)
+    /// that have boxes, one for each occluder (all or none), in `boxes` in this order.
+    pairs: Vec<Pair, PAIRS, u8>,
+    /// The boxes, `occluders` for each pair. Held apart from the pairs (not a light and a
+    /// plane beside every box), so that twice as many fit in about the RAM six took
+    /// (spec0's on the Cortex-M0 within its limit; the showcase there -17 %).
+    boxes: Vec<ScreenBox, BOXES, u8>,
 }
 
 /// The most boxes kept (a light's boxes for one plane come all or none).
-pub const BOXES: usize = 6;
+pub const BOXES: usize = 12;
 
-/// One light's shadow boxes on one receiving plane.
+/// The most lights and planes with boxes.
+const PAIRS: usize = 6;
+
+/// A light and a receiving plane that have shadow boxes.
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Entry {
+struct Pair {
     light: u8,
     receiver: u8,
-    screen: ScreenBox,
 }
 
 impl ShadowBoxes {
@@ -135,7 +141,8 @@ impl ShadowBoxes {
         let rows = View::new(camera, false);
         let columns = View::new(camera, true);
         let resolution = super::resolution(camera);
-        let mut entries = Vec::new();
+        let mut pairs = Vec::new();
+        let mut boxes = Vec::new();
         // One array of points for every call below, filled in place: returned by value
         // through the calls, its copies were the frame's largest part (RAM on a Cortex-M0).
         let mut points = [Vec3::ZERO; 8];
@@ -161,7 +168,7 @@ impl ShadowBoxes {
                             .is_some()
                         })
                     });
-                if !bounded || entries.len() + occluders.len() > BOXES {
+                if !bounded || boxes.len() + occluders.len() > BOXES || pairs.is_full() {
                     continue;
                 }
                 for &index in &occluders {
@@ -189,57 +196,68 @@ impl ShadowBoxes {
                     {
                         screen.columns = RowSpan::ALL;
                     }
-                    let entry = Entry {
-                        light: number,
-                        receiver,
-                        screen,
-                    };
-                    entries.push(entry).ok()?;
+                    boxes.push(screen).ok()?;
                 }
+                let pair = Pair {
+                    light: number,
+                    receiver,
+                };
+                pairs.push(pair).ok()?;
             }
         }
         let occluders = u8::try_from(occluders.len()).ok()?;
-        (!entries.is_empty()).then_some(Self { occluders, entries })
+        (!pairs.is_empty()).then_some(Self {
+            occluders,
+            pairs,
+            boxes,
+        })
     }
 
-    /// Light `light`'s boxes on the plane at `receiver`, one per occluder, if it has them.
-    fn boxes_of(&self, light: usize, receiver: usize) -> impl Iterator<Item = &Entry> + '_ {
-        self.entries
-            .iter()
-            .filter(move |e| usize::from(e.light) == light && usize::from(e.receiver) == receiver)
+    /// Each pair with its boxes.
+    fn entries(&self) -> impl Iterator<Item = (&Pair, &[ScreenBox])> + '_ {
+        let each = usize::from(self.occluders).max(1);
+        self.pairs.iter().zip(self.boxes.chunks(each))
+    }
+
+    /// Light `light`'s boxes on the plane at `receiver`, one per occluder, if it has them
+    /// (else none).
+    fn boxes_of(&self, light: usize, receiver: usize) -> &[ScreenBox] {
+        self.entries()
+            .find(|(pair, _)| {
+                usize::from(pair.light) == light && usize::from(pair.receiver) == receiver
+            })
+            .map_or(&[], |(_, boxes)| boxes)
     }
 
     /// Whether a shadow ray towards light `light` from a primary ray's hit on the plane at
     /// `own`, at row `y`, in columns `first..=last`, may be blocked by an object that
     /// depends on `x`.
     pub fn may_block(&self, light: usize, own: usize, y: u16, first: u16, last: u16) -> bool {
-        let mut boxes = 0;
-        for entry in self.boxes_of(light, own) {
-            boxes += 1;
-            let b = entry.screen;
+        let boxes = self.boxes_of(light, own);
+        for b in boxes {
             if b.rows.contains(y) && b.columns.first <= last && first <= b.columns.last {
                 return true;
             }
         }
-        boxes < usize::from(self.occluders)
+        boxes.len() < usize::from(self.occluders)
     }
 
     /// Calls `cut` with the columns where the boxes of row `y` on the plane at `own` start
     /// and end (a box's last column plus one), of the lights whose boxes leave some of the
     /// row's columns out: where the row is cut into segments.
     pub fn cuts(&self, own: usize, y: u16, mut cut: impl FnMut(u16)) {
-        for entry in &self.entries {
-            let light = usize::from(entry.light);
-            let b = entry.screen;
-            if usize::from(entry.receiver) != own || !b.rows.contains(y) {
+        for (pair, boxes) in self.entries() {
+            if usize::from(pair.receiver) != own {
                 continue;
             }
-            let whole = self
-                .boxes_of(light, own)
-                .any(|e| e.screen.rows.contains(y) && e.screen.columns == RowSpan::ALL);
-            if !whole {
-                cut(b.columns.first);
-                cut(b.columns.last.saturating_add(1));
+            let whole = boxes
+                .iter()
+                .any(|b| b.rows.contains(y) && b.columns == RowSpan::ALL);
+            for b in boxes.iter().filter(|b| b.rows.contains(y)) {
+                if !whole {
+                    cut(b.columns.first);
+                    cut(b.columns.last.saturating_add(1));
+                }
             }
         }
     }

@@ -159,8 +159,8 @@ pub struct RowShading<'s, S: Scalar> {
     /// taking their filters (as [`Shader::shadow_filter`] walks).
     filtered: bool,
     /// Whether a light is a projector, whose light each pixel finds on its slide: the row
-    /// has one level (the pixels' mirror rays go their own ways) and a copy of its own of
-    /// the level's body.
+    /// has one level (the pixels' mirror rays go their own ways), is never plain, and takes
+    /// the filtered copies of the level's body (`filtered` is set), which find the texels.
     projected: bool,
 }
 
@@ -343,7 +343,10 @@ impl<'s, S: Scalar> Shader<'s, S> {
             levels: heapless::Vec::new(),
             tested,
             textured: false,
-            filtered: shadows && self.filters_shadows(),
+            // A projector's rows take the filtered copies of the level's body, which find
+            // each pixel's texel (with no transparent object a walk's filter is ones, which
+            // change no product): no copies of their own (flash).
+            filtered: shadows && self.filters_shadows() || projected,
             projected,
         };
         loop {
@@ -518,11 +521,11 @@ impl<'s, S: Scalar> Shader<'s, S> {
         ray: &Ray<S>,
     ) -> Vec3<S> {
         if row.tested {
-            self.shade_in_tested_row::<PROJECTED>(row, shadows, tests, ray)
+            self.shade_in_tested_row(row, shadows, tests, ray)
         } else if !PROJECTED && row.plain_unprojected() {
             self.shade_in_plain_row(row, ray)
         } else {
-            self.shade_testing_shadows::<PROJECTED>(row, shadows, ray)
+            self.shade_testing_shadows(row, shadows, ray)
         }
     }
 
@@ -535,7 +538,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
 
     /// [`shade_in_row`](Self::shade_in_row) where each pixel tests some shadow rays.
     #[inline(never)]
-    fn shade_testing_shadows<const PROJECTED: bool>(
+    fn shade_testing_shadows(
         &self,
         row: &RowShading<'s, S>,
         shadows: &RowShadows<'s, S>,
@@ -545,8 +548,6 @@ impl<'s, S: Scalar> Shader<'s, S> {
         if cfg!(microray_small) {
             // Built for size, the mirror rays' body serves these rows too.
             self.deeper_level(levels, ray, S::ZERO, 0, Some(shadows))
-        } else if PROJECTED {
-            self.projected_level(levels, ray, row, shadows)
         } else if row.filtered {
             self.filtered_level(levels, ray, row.textured, shadows)
         } else if row.textured {
@@ -566,7 +567,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         ray: &Ray<S>,
         shadows: &RowShadows<'s, S>,
     ) -> Vec3<S> {
-        self.level_of::<true, false, false>(levels, ray, S::ZERO, 0, Some(shadows))
+        self.level_of::<true, false>(levels, ray, S::ZERO, 0, Some(shadows))
     }
 
     /// [`level`](Self::level) for a primary ray whose shadow rays take transparent
@@ -582,29 +583,9 @@ impl<'s, S: Scalar> Shader<'s, S> {
         shadows: &RowShadows<'s, S>,
     ) -> Vec3<S> {
         if textured {
-            self.level_of::<true, true, false>(levels, ray, S::ZERO, 0, Some(shadows))
+            self.level_of::<true, true>(levels, ray, S::ZERO, 0, Some(shadows))
         } else {
-            self.level_of::<false, true, false>(levels, ray, S::ZERO, 0, Some(shadows))
-        }
-    }
-
-    /// [`level`](Self::level) for a primary ray of a row lit by a projector: copies of its
-    /// own, out of line, apart from the others (in their lights' loop, the projector's
-    /// look-up cost spec0 7 % more on the Cortex-M4F in `f32`).
-    #[inline(never)]
-    fn projected_level(
-        &self,
-        levels: &[Level<'s, S>],
-        ray: &Ray<S>,
-        row: &RowShading<'s, S>,
-        shadows: &RowShadows<'s, S>,
-    ) -> Vec3<S> {
-        let shadows = Some(shadows);
-        match (row.textured, row.filtered) {
-            (true, true) => self.level_of::<true, true, true>(levels, ray, S::ZERO, 0, shadows),
-            (true, false) => self.level_of::<true, false, true>(levels, ray, S::ZERO, 0, shadows),
-            (false, true) => self.level_of::<false, true, true>(levels, ray, S::ZERO, 0, shadows),
-            (false, false) => self.level_of::<false, false, true>(levels, ray, S::ZERO, 0, shadows),
+            self.level_of::<false, true>(levels, ray, S::ZERO, 0, Some(shadows))
         }
     }
 
@@ -616,7 +597,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// [`shade_in_row`](Self::shade_in_row) where an object tested ray by ray may be nearer
     /// than the row's plane.
     #[inline(never)]
-    fn shade_in_tested_row<const PROJECTED: bool>(
+    fn shade_in_tested_row(
         &self,
         row: &RowShading<'s, S>,
         shadows: &RowShadows<'s, S>,
@@ -626,7 +607,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let first = row.levels.first().map(|level| level.index);
         match closest_hit_in_row(self.objects, tests, None, ray, self.z_limit) {
             Some((index, _)) if Some(index) == first => {
-                self.shade_testing_shadows::<PROJECTED>(row, shadows, ray)
+                self.shade_testing_shadows(row, shadows, ray)
             }
             Some((index, t)) => self.shade(ray, index, t, S::ZERO, Path::PRIMARY),
             None => Vec3::ZERO,
@@ -662,14 +643,14 @@ impl<'s, S: Scalar> Shader<'s, S> {
         depth: u8,
         shadows: Option<&RowShadows<'s, S>>,
     ) -> Vec3<S> {
-        self.level_of::<false, false, false>(levels, ray, total, depth, shadows)
+        self.level_of::<false, false>(levels, ray, total, depth, shadows)
     }
 
     /// [`level`](Self::level), `TEXTURED` for a level on a textured rectangle (its
     /// colours found by each pixel), `FILTERED` where the pixels' shadow rays walk through
     /// transparent objects (constants, so that the planes' copies have no code for them).
     #[inline(always)]
-    fn level_of<const TEXTURED: bool, const FILTERED: bool, const PROJECTED: bool>(
+    fn level_of<const TEXTURED: bool, const FILTERED: bool>(
         &self,
         levels: &[Level<'s, S>],
         ray: &Ray<S>,
@@ -693,20 +674,13 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let total = total + level.t * len;
         let mut c = if TEXTURED && !cfg!(microray_small) {
             let colors = self.pattern_colors(level, &hit);
-            self.local_in_row::<true, PROJECTED>(
-                level,
-                &hit,
-                ray,
-                total,
-                colors,
-                |lit, to_light| {
-                    self.pixel_reach::<FILTERED>(lit, &hit, to_light, level.index, shadows)
-                },
-            )
+            self.local_in_row::<true, FILTERED>(level, &hit, ray, total, colors, |lit, to_light| {
+                self.pixel_reach::<FILTERED>(lit, &hit, to_light, level.index, shadows)
+            })
         } else if shadows.is_some() || cfg!(microray_small) {
             // Built for size, one copy of the light loop, the test decided as it runs.
             let colors = (Vec3::ZERO, Vec3::ZERO);
-            self.local_in_row::<false, PROJECTED>(
+            self.local_in_row::<false, FILTERED>(
                 level,
                 &hit,
                 ray,
@@ -718,7 +692,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
             )
         } else {
             let colors = (Vec3::ZERO, Vec3::ZERO);
-            self.local_in_row::<false, PROJECTED>(level, &hit, ray, total, colors, |_, _| {
+            self.local_in_row::<false, FILTERED>(level, &hit, ray, total, colors, |_, _| {
                 Reach::Clear
             })
         };
@@ -779,7 +753,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// `TEXTURED` level, `colors` are the pixel's diffuse and ambient colours (else not
     /// read).
     #[inline(always)]
-    fn local_in_row<const TEXTURED: bool, const PROJECTED: bool>(
+    fn local_in_row<const TEXTURED: bool, const FILTERED: bool>(
         &self,
         level: &Level<'s, S>,
         hit: &Hit<S>,
@@ -827,7 +801,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 diffuse = diffuse.mul_each(filter);
             }
             // A projector's texel at this pixel (or no light), after the filter as there.
-            let texel = if PROJECTED && light.slide().is_some() {
+            // Only in the filtered copies, which every row lit by a projector takes.
+            let texel = if FILTERED && light.slide().is_some() {
                 match self.projected_texel(light, to_light) {
                     Some(texel) => Some(texel),
                     None => continue,
@@ -847,7 +822,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 if glints {
                     // A constant `None` elsewhere, as before projectors came to rows (a
                     // variable's was stored for every pixel: spec0 +1 %).
-                    let texel = if PROJECTED { texel } else { None };
+                    let texel = if FILTERED { texel } else { None };
                     c = c + glint(light, texel, material, hit.normal, ray.dir, to_light, per);
                 }
                 per_total.get_or_insert(per);

@@ -52,6 +52,7 @@ use crate::object::{Hit, Object, RowEntry, RowOrigin, RowTest, Shape, Surface, T
 use crate::plan::ShadowBoxes;
 use crate::ray::Ray;
 use crate::scalar::Scalar;
+use crate::scalar::geometry::Geo;
 use crate::vec3::Vec3;
 use core::ops::ControlFlow;
 
@@ -840,8 +841,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
     }
 
     /// The texel of a projector's slide that lights a pixel of a row at `-to_light` from the
-    /// light, as `illuminate_divided` finds it. Cold and out of line: the other lights'
-    /// loops keep their shape (in line, spec0 cost 7 % more on the Cortex-M4F in `f32`).
+    /// light, as `illuminate_divided` finds it. Cold and out of line: the filtered loops
+    /// keep their shape for the lights that are not projectors.
     #[cold]
     #[inline(never)]
     fn projected_texel(&self, light: &Light<S>, to_light: Vec3<S>) -> Option<Vec3<S>> {
@@ -1008,12 +1009,12 @@ impl<S: Scalar> Crossing<S> {
 /// thousandths of its size.
 #[cfg_attr(microray_small, allow(dead_code))]
 pub(super) fn crossing<S: Scalar>(
-    a: Vec3<crate::scalar::geometry::Geo>,
-    k: crate::scalar::geometry::Geo,
-    [y, z]: [crate::scalar::geometry::Geo; 2],
-    room: crate::scalar::geometry::Geo,
+    a: Vec3<Geo>,
+    k: Geo,
+    [y, z]: [Geo; 2],
+    room: Geo,
 ) -> Crossing<S> {
-    use crate::scalar::geometry::{self, Geo, from_f64};
+    use crate::scalar::geometry::{self, from_f64};
     let c1 = y * a.y + z * a.z;
     let c2 = y * y + z * z;
     if !(c2 > from_f64(1e-6)) {
@@ -1055,6 +1056,34 @@ pub(super) fn crossing<S: Scalar>(
     }
 }
 
+/// The `x` where the way `(x, y, z)` has the exact cosine `k` to the unit axis `a`, in
+/// `f64`: the tests' reference for the spans (none where no `x` has it).
+#[cfg(all(test, not(microray_small)))]
+pub(super) fn exact_edges(a: Vec3<f64>, k: f64, [y, z]: [f64; 2]) -> Vec<f64> {
+    let c1 = y * a.y + z * a.z;
+    let (qa, qb, qc) = (
+        a.x * a.x - k * k,
+        2.0 * a.x * c1,
+        c1 * c1 - k * k * (y * y + z * z),
+    );
+    let disc = qb * qb - 4.0 * qa * qc;
+    if !(disc > 0.0 && qa != 0.0) {
+        return Vec::new();
+    }
+    let root = libm::sqrt(disc);
+    vec![(-qb + root) / (2.0 * qa), (-qb - root) / (2.0 * qa)]
+}
+
+/// Points from 2^-30 to 2^-2 either side of `x`, apart and in proportion: where the tests
+/// try a span's margins.
+#[cfg(all(test, not(microray_small)))]
+pub(super) fn about(x: f64) -> impl Iterator<Item = f64> {
+    (2..=30).flat_map(move |e| {
+        let d = libm::ldexp(1.0, -e);
+        [x - d, x + d, x * (1.0 - d), x * (1.0 + d)]
+    })
+}
+
 #[cfg(all(test, not(microray_small)))]
 mod tests {
     use super::*;
@@ -1088,26 +1117,10 @@ mod tests {
         let (y, z) = (S::from_f64(y), S::from_f64(z));
         let span = cone_span_with(spot, y, z, margins).map(S::order_key);
         // The exact crossings of the stored cone, in `f64`.
-        let a = spot.axis.to_f64();
-        let (yf, zf, k) = (y.to_f64(), z.to_f64(), spot.cos_theta.to_f64());
-        let c1 = yf * a.y + zf * a.z;
-        let (qa, qb, qc) = (
-            a.x * a.x - k * k,
-            2.0 * a.x * c1,
-            c1 * c1 - k * k * (yf * yf + zf * zf),
-        );
-        let disc = qb * qb - 4.0 * qa * qc;
+        let (a, k) = (spot.axis.to_f64(), spot.cos_theta.to_f64());
         let mut all = xs.to_vec();
-        if disc > 0.0 && qa != 0.0 {
-            for root in [
-                (-qb + libm::sqrt(disc)) / (2.0 * qa),
-                (-qb - libm::sqrt(disc)) / (2.0 * qa),
-            ] {
-                for e in 2..=30 {
-                    let d = libm::ldexp(1.0, -e);
-                    all.extend([root - d, root + d, root * (1.0 - d), root * (1.0 + d)]);
-                }
-            }
+        for root in exact_edges(a, k, [y.to_f64(), z.to_f64()]) {
+            all.extend(about(root));
         }
         let mut outside = 0;
         for x in all {

@@ -17,8 +17,9 @@
 //! boxes are ([`crate::plan::ShadowBoxes`]): all the row's rays lie in one plane through
 //! the light, and their directions' `x` inside the cone make one span, found once a row
 //! (where the geometry's floats are the target's own: in software floats the span costs
-//! more than it spares). Any other object is tested by each pixel as before. The answer is [`Shader::blocked`]'s, whatever
-//! the order: a shadow ray is blocked when any object is in the way.
+//! more than it spares). Any other object is tested by each pixel as before. The answer
+//! is [`Shader::blocked`]'s, whatever the order: a shadow ray is blocked when any object
+//! is in the way.
 //!
 //! Where shadow rays pass through transparent objects, taking their filters, the same tests
 //! make the first step of each pixel's walk (the nearest object met, in the scene's order),
@@ -117,31 +118,22 @@ impl<'s, S: Scalar> Shader<'s, S> {
         let point = level.surface.hit.point;
         for lit in level.lights.iter().filter(|lit| lit.shadow_per_pixel) {
             if let Some(tests) = shadows.lights.get_mut(usize::from(lit.number)) {
-                let row = Prepared {
-                    own: level.index,
-                    point,
-                    filtered: row.filtered,
-                    resolution,
-                };
-                self.light_shadows(tests, &row, lit);
+                self.light_shadows(tests, (level.index, point), lit, row.filtered, resolution);
             }
         }
     }
 
-    /// [`prepare_row_shadows`](Self::prepare_row_shadows) for one light, into `tests`, for
-    /// the `row`.
+    /// [`prepare_row_shadows`](Self::prepare_row_shadows) for one light, into `tests`,
+    /// from the row's hit `point` on the object at `own`; `filtered`, for the first step of
+    /// walks through transparent objects; `resolution`, the balls' margins.
     fn light_shadows(
         &self,
         tests: &mut LightShadows<'s, S>,
-        row: &Prepared<S>,
+        (own, point): (usize, Vec3<S>),
         lit: &RowLight<'s, S>,
+        filtered: bool,
+        resolution: Geo,
     ) {
-        let &Prepared {
-            own,
-            point,
-            filtered,
-            resolution,
-        } = row;
         // The row's shadow ray: every pixel's in `y` and `z`.
         let to_light = Vec3::new(lit.light.location.x - point.x, lit.to_y, lit.to_z);
         let shadow = Ray::new(point, to_light);
@@ -367,16 +359,6 @@ fn within<S: Scalar>(x: S, low: S, high: S) -> bool {
     !geometry::IN_HARDWARE || !(x < low || x > high)
 }
 
-/// A row's part in [`Shader::light_shadows`]: the object its first level is on (`own`), the
-/// level's hit (`point`), whether the pixels' shadow rays walk through transparent objects
-/// (`filtered`), the balls' margins (`resolution`, as [`crate::plan::resolution`] has it).
-struct Prepared<S> {
-    own: usize,
-    point: Vec3<S>,
-    filtered: bool,
-    resolution: Geo,
-}
-
 /// Where a row's shadow rays towards a light at `light` can meet `object`, a ball or a
 /// surface of revolution, the rays' directions' `y` and `z` being `[to_y, to_z]`: in the
 /// directions from the light within the cone that touches the ball holding it, widened as
@@ -437,35 +419,22 @@ fn across<S: Scalar>(object: &Object<S>) -> Option<&Rect<S>> {
 
 #[cfg(all(test, not(microray_small)))]
 mod tests {
+    use super::super::{about, exact_edges};
     use super::*;
     use crate::object::ObjectDef;
     use crate::scalar::I16F16;
     use proptest::prelude::*;
 
     /// The `x` where the way from `l` along `(x, y, z)` touches the ball `(c, r)`, in `f64`.
-    fn edges(l: [f64; 3], c: [f64; 3], r: f64, [y, z]: [f64; 2]) -> Vec<f64> {
-        let w: Vec<f64> = (0..3).map(|i| c[i] - l[i]).collect();
-        let d2: f64 = w.iter().map(|v| v * v).sum();
+    fn edges(l: [f64; 3], c: [f64; 3], r: f64, way: [f64; 2]) -> Vec<f64> {
+        let w = Vec3::from_array(c) - Vec3::from_array(l);
+        let d2 = w.dot(w);
         if r * r >= d2 {
             return Vec::new();
         }
         let d = libm::sqrt(d2);
-        let a: Vec<f64> = w.iter().map(|v| v / d).collect();
-        let k = libm::sqrt(d2 - r * r) / d;
-        let c1 = y * a[1] + z * a[2];
-        let (qa, qb, qc) = (
-            a[0] * a[0] - k * k,
-            2.0 * a[0] * c1,
-            c1 * c1 - k * k * (y * y + z * z),
-        );
-        let disc = qb * qb - 4.0 * qa * qc;
-        if !(disc > 0.0 && qa != 0.0) {
-            return Vec::new();
-        }
-        vec![
-            (-qb + libm::sqrt(disc)) / (2.0 * qa),
-            (-qb - libm::sqrt(disc)) / (2.0 * qa),
-        ]
+        let a = Vec3::new(w.x / d, w.y / d, w.z / d);
+        exact_edges(a, libm::sqrt(d2 - r * r) / d, way)
     }
 
     /// The row's hits `(x, y, z)` (its `y` and `z` the row's, the `x` from `xs` and about
@@ -493,11 +462,7 @@ mod tests {
         let mut all = xs.to_vec();
         let row = [-way[0].to_f64(), -way[1].to_f64()];
         for edge in edges(light, center, radius, row) {
-            let x = edge + light[0];
-            for e in 2..=30 {
-                let d = libm::ldexp(1.0, -e);
-                all.extend([x - d, x + d, x * (1.0 - d), x * (1.0 + d)]);
-            }
+            all.extend(about(edge + light[0]));
         }
         let mut outside = 0;
         for x in all {

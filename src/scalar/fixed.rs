@@ -19,8 +19,8 @@
 use super::ball::BallTest;
 pub use super::wide::Wide;
 use super::wide::{
-    Divisor, all_below, dot_i64_small, dot_q16_small, in_halves, isqrt, leading_zeros, mul_i32,
-    mul_q16_small, mul_u32, shr_u64,
+    Divisor, FLOAT_GUESSES, all_below, dot_i64_small, dot_q16_small, float_quotient_q16,
+    float_scale_q16, in_halves, isqrt, leading_zeros, mul_i32, mul_q16_small, mul_u32, shr_u64,
 };
 use super::{PixelSteps, RowRoots, Scalar};
 use crate::vec3::Vec3;
@@ -81,6 +81,17 @@ impl I16F16 {
             None if negative => Self::MIN,
             None => Self::MAX,
         }
+    }
+
+    /// [`divide_by`](Self::divide_by) from the float unit's estimate (see
+    /// [`float_quotient_q16`]), where the quotient is below `2^22` (`2^6` in Q16.16): the same value.
+    #[inline(always)]
+    fn divide_by_float(self, magnitude: u32, scale: f32, negative: bool) -> Option<Self> {
+        let bits = self.to_bits();
+        let negative = (bits < 0) != negative;
+        // Below 2^22: the negation cannot overflow.
+        let q = float_quotient_q16(bits.unsigned_abs(), magnitude, scale)? as i32;
+        Some(Self::from_bits(if negative { -q } else { q }))
     }
 
     /// `x / 0`: saturated by the sign of `x`, 0 for 0.
@@ -233,6 +244,12 @@ impl Div for I16F16 {
     #[inline]
     fn div(self, o: Self) -> Self {
         let b = o.to_bits();
+        if FLOAT_GUESSES
+            && let Some(scale) = float_scale_q16(b.unsigned_abs())
+            && let Some(q) = self.divide_by_float(b.unsigned_abs(), scale, b < 0)
+        {
+            return q;
+        }
         match Divisor::new(b.unsigned_abs()) {
             Some(d) => self.divide_by(&d, b < 0),
             None => self.divide_by_zero(),
@@ -374,7 +391,8 @@ impl Scalar for I16F16 {
     #[inline(always)]
     fn row_length(x: Self, _: Self, _: Self, squares: u64, roots: &mut RowRoots) -> Self {
         let n = square_bits(x) + squares;
-        let root = if cfg!(microray_small) {
+        // With a float unit, its guess is as near as the row's (see `FLOAT_GUESSES`).
+        let root = if cfg!(microray_small) || FLOAT_GUESSES {
             isqrt(n)
         } else {
             roots.next(n)
@@ -603,6 +621,12 @@ impl Scalar for I16F16 {
     #[inline]
     fn div_vec(v: Vec3<Self>, d: Self) -> Vec3<Self> {
         let bits = d.to_bits();
+        if FLOAT_GUESSES && let Some(scale) = float_scale_q16(bits.unsigned_abs()) {
+            let each = |x: Self| x.divide_by_float(bits.unsigned_abs(), scale, bits < 0);
+            if let (Some(x), Some(y), Some(z)) = (each(v.x), each(v.y), each(v.z)) {
+                return Vec3::new(x, y, z);
+            }
+        }
         match Divisor::new(bits.unsigned_abs()) {
             Some(divisor) => Vec3::new(
                 v.x.divide_by(&divisor, bits < 0),

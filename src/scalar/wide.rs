@@ -5,7 +5,9 @@
 //! software 64-bit divide of 300 instructions and more. Here products are built from four
 //! 16x16 multiplies, and division and square root from a table and Newton's method
 //! (multiplies only), corrected to the exact result. Elsewhere (Cortex-M4, RISC-V with M,
-//! hosts) the plain 64-bit forms compile to one or two instructions and are used instead.
+//! hosts) the plain 64-bit forms compile to one or two instructions and are used instead;
+//! where there is a float unit (Cortex-M4F, hosts), its square root and quotient start the
+//! exact ones, which exact products then correct ([`FLOAT_GUESSES`]): the same results.
 
 /// Whether this target lacks a 32x32 -> 64 multiply (ARMv6-M: also the only Arm profile
 /// without compare-and-swap atomics, which is how `cfg` can tell).
@@ -349,18 +351,45 @@ impl Divisor {
         if estimate >= (1 << 31) + 4096 {
             return None;
         }
-        let mut q = estimate as u32;
-        let mut back = mul_u32(q, self.magnitude);
-        while back > numerator {
-            q = q.wrapping_sub(1);
-            back -= u64::from(self.magnitude);
-        }
-        while numerator - back >= u64::from(self.magnitude) {
-            q = q.wrapping_add(1);
-            back += u64::from(self.magnitude);
-        }
+        let q = corrected_quotient(estimate as u32, numerator, self.magnitude);
         (q < 1 << 31).then_some(q)
     }
+}
+
+/// `floor(numerator / magnitude)` (`magnitude` above 0) from an estimate a few units from
+/// it, by exact products.
+#[inline(always)]
+fn corrected_quotient(estimate: u32, numerator: u64, magnitude: u32) -> u32 {
+    let mut q = estimate;
+    let mut back = mul_u32(q, magnitude);
+    while back > numerator {
+        q = q.wrapping_sub(1);
+        back -= u64::from(magnitude);
+    }
+    while numerator - back >= u64::from(magnitude) {
+        q = q.wrapping_add(1);
+        back += u64::from(magnitude);
+    }
+    q
+}
+
+/// `2^16 / magnitude` in `f32`, for [`float_quotient_q16`] (`None` for 0): with a float
+/// unit (see [`FLOAT_GUESSES`]), one division instead of the exact reciprocal's table and
+/// Newton steps.
+#[inline(always)]
+pub(crate) fn float_scale_q16(magnitude: u32) -> Option<f32> {
+    (magnitude != 0).then(|| 65_536.0 / magnitude as f32)
+}
+
+/// `floor(x 2^16 / magnitude)` from `scale` ([`float_scale_q16`] of `magnitude`), where
+/// the quotient is below `2^22`; `None` where it may not be (the caller divides exactly).
+/// Exact: `x scale` is within four roundings of `2^-24` of the quotient, a quarter of a
+/// unit below `2^22`, so the truncated estimate is within one unit, which the exact
+/// products correct.
+#[inline(always)]
+pub(crate) fn float_quotient_q16(x: u32, magnitude: u32, scale: f32) -> Option<u32> {
+    let estimate = (x as f32 * scale) as u32;
+    (estimate < 1 << 22).then(|| corrected_quotient(estimate, u64::from(x) << 16, magnitude))
 }
 
 /// The top 32 bits of a non-zero `u64` shifted left until its top bit is set, and the
@@ -592,10 +621,12 @@ const RECIPROCAL_ROOTS: [u16; 192] = {
     table
 };
 
-/// `floor(sqrt(n))`, exact: a table and two Newton steps of the reciprocal square root
-/// (multiplies only; on ARMv6-M, built for speed, the first in 32-bit products), then corrected with exact
-/// squares. Used on every target, so that the same code is tested on the host. Out of line on
-/// ARMv6-M built for speed: in line there, its registers grew the row loops' frames (stack).
+/// `floor(sqrt(n))`, exact: with a float unit, from its square root (see
+/// [`FLOAT_GUESSES`]); else, or where that guess is too far, a table and two Newton steps
+/// of the reciprocal square root (multiplies only; on ARMv6-M, built for speed, the first
+/// in 32-bit products), then corrected with exact squares. The host takes both ways, so
+/// the tests try both. Out of line on ARMv6-M built for speed: in line there, its registers
+/// grew the row loops' frames (stack).
 #[cfg_attr(
     all(
         target_arch = "arm",
@@ -613,7 +644,29 @@ const RECIPROCAL_ROOTS: [u16; 192] = {
     inline
 )]
 pub(crate) fn isqrt(n: u64) -> u32 {
+    if FLOAT_GUESSES && let Some(root) = root_near(n, float_root_guess(n)) {
+        return root;
+    }
     isqrt_by(n, STEPS_IN_WORDS)
+}
+
+/// Whether the target's float unit starts fixed point's integer square roots and divisions.
+/// Its `sqrt` of `n` as an `f32` is within `2^-23` of the root and a unit (two roundings of
+/// `2^-24` in `n`, halved by the root, one in the root, and the truncation): a unit or two
+/// below `2^22`, within [`RowRoots::STEPS`] below `2^25`, where the steps of [`root_near`]
+/// make it exact (a guess they do not reach falls back to the table). Its quotients, see
+/// [`float_quotient_q16`]. `VSQRT` and the conversions take about a third of the table's
+/// instructions (`VSQRT` and `VDIV` take 14 cycles each on a Cortex-M4F).
+pub(crate) const FLOAT_GUESSES: bool = super::HARD_FLOAT;
+
+/// `sqrt(n)` in `f32`, truncated (saturated beyond `u32`): see [`FLOAT_GUESSES`].
+#[inline(always)]
+fn float_root_guess(n: u64) -> u32 {
+    let (high, low) = ((n >> 32) as u32, n as u32);
+    // `high` below 2^24 is exact, and its scaling by 2^32 too: one rounding each for `low`
+    // and the sum.
+    let x = high as f32 * 4_294_967_296.0 + low as f32;
+    super::sqrtf(x) as u32
 }
 
 /// [`isqrt`], its first step in 32-bit products or not (the result is the same).
@@ -961,6 +1014,45 @@ mod tests {
                 let got = f64::from(newton_reciprocal(n, y));
                 prop_assert!((got - exact).abs() <= exact * 2f64.powi(-28), "{} vs {}", got, exact);
             }
+        }
+
+        /// Both square roots exact, the float unit's and the table's, and the float unit's
+        /// guess within `2^-23` of the root and a unit (within the steps' reach below
+        /// `2^25`).
+        #[test]
+        fn square_roots_are_exact_both_ways(n: u64, shift in 0u32..64) {
+            for n in [n, n >> shift] {
+                let root = n.isqrt() as u32;
+                prop_assert_eq!(isqrt(n), root);
+                prop_assert_eq!(isqrt_by(n, true), root);
+                prop_assert_eq!(isqrt_by(n, false), root);
+                let guess = float_root_guess(n);
+                if root < 1 << 25 {
+                    prop_assert!(root.abs_diff(guess) <= (root >> 23) + 1, "{} from {}", root, guess);
+                    prop_assert_eq!(root_near(n, guess), Some(root));
+                }
+            }
+        }
+
+        /// The float unit's quotient exact wherever it answers, its estimate within a unit,
+        /// and an answer for every quotient below `2^21`; the exact reciprocal's the same.
+        #[test]
+        fn float_quotients_are_exact(x: u32, m in 1u32.., shift in 0u32..32) {
+            for (x, m) in [(x, m), (x >> shift, m), (x, m >> shift | 1)] {
+                let exact = (u64::from(x) << 16) / u64::from(m);
+                let scale = float_scale_q16(m).unwrap();
+                let estimate = (x as f32 * scale) as u32;
+                if exact < 1 << 22 {
+                    prop_assert!(u64::from(estimate).abs_diff(exact) <= 1, "{} for {}", estimate, exact);
+                }
+                let float = float_quotient_q16(x, m, scale);
+                prop_assert!(float.is_none_or(|q| u64::from(q) == exact));
+                prop_assert_eq!(float.is_some(), estimate < 1 << 22);
+                prop_assert!(float.is_some() || exact >= 1 << 21);
+                let divisor = Divisor::new(m).unwrap().divide_q16(x);
+                prop_assert_eq!(divisor.map(u64::from), (exact < 1 << 31).then_some(exact));
+            }
+            prop_assert_eq!(float_scale_q16(0), None);
         }
 
         #[test]

@@ -557,7 +557,7 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
             let spans = self.column_spans(tests, left, row.len());
             self.shade_segments(shader, camera_y, left, tests, &spans, rays, row);
         } else {
-            for (slot, ray) in row.iter_mut().zip(rays) {
+            for (slot, ray) in slots_with_rays(row, rays) {
                 *slot = self.color(shader, ray, Among::All).into();
             }
         }
@@ -866,7 +866,7 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         rays: RowRays<S>,
         row: &mut [C],
     ) {
-        for (slot, ray) in row.iter_mut().zip(rays) {
+        for (slot, ray) in slots_with_rays(row, rays) {
             *slot = self.color_in_row(shader, ray, tests).into();
         }
     }
@@ -934,7 +934,7 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         let stride = stride.max(1);
         let rays = self.camera.row_rays_every(camera_y, first, stride);
         if !self.prepare_row(camera_y, &rays, tests) {
-            for (slot, ray) in row.iter_mut().zip(rays) {
+            for (slot, ray) in slots_with_rays(row, rays) {
                 *slot = self.color(shader, ray, Among::All).into();
             }
             return;
@@ -1044,7 +1044,7 @@ fn shade_plain_row<S: Scalar, C: From<Rgb888>>(
     rays: RowRays<S>,
     row: &mut [C],
 ) {
-    for (slot, ray) in row.iter_mut().zip(rays) {
+    for (slot, ray) in slots_with_rays(row, rays) {
         let c = ray.map_or(Vec3::ZERO, |ray| shader.shade_in_plain_row(shading, &ray));
         *slot = bytes(c).into();
     }
@@ -1067,7 +1067,7 @@ fn shade_row_testing<S: Scalar, C: From<Rgb888>>(
     shader.prepare_row_shadows(&mut shadows, shading, resolution);
     // Asked once a row (see `Shader::shade_in_row_of`); built for size, no projector's copy.
     if shading.projected() && !cfg!(microray_small) {
-        for (slot, ray) in row.iter_mut().zip(rays) {
+        for (slot, ray) in slots_with_rays(row, rays) {
             let c = ray.map_or(Vec3::ZERO, |ray| {
                 shader.shade_in_row_of::<true>(shading, &shadows, tests, &ray)
             });
@@ -1075,11 +1075,41 @@ fn shade_row_testing<S: Scalar, C: From<Rgb888>>(
         }
         return;
     }
-    for (slot, ray) in row.iter_mut().zip(rays) {
+    for (slot, ray) in slots_with_rays(row, rays) {
         let c = ray.map_or(Vec3::ZERO, |ray| {
             shader.shade_in_row_of::<false>(shading, &shadows, tests, &ray)
         });
         *slot = bytes(c).into();
+    }
+}
+
+/// Each slot of `row` with the next of `rays`, as `row.iter_mut().zip(rays)` pairs them,
+/// the rays' step always in line in the loop (not built for size): fixed point's `Zip::next`, with the row's
+/// roots in it, was left out of line (a call a pixel, the ray handed back through memory:
+/// fplane0 on the micro:bit 382 -> 333 instructions a pixel without it).
+#[inline(always)]
+fn slots_with_rays<S: Scalar, C>(row: &mut [C], rays: RowRays<S>) -> SlotsWithRays<'_, S, C> {
+    SlotsWithRays {
+        slots: row.iter_mut(),
+        rays,
+    }
+}
+
+/// See [`slots_with_rays`].
+struct SlotsWithRays<'r, S: Scalar, C> {
+    slots: core::slice::IterMut<'r, C>,
+    rays: RowRays<S>,
+}
+
+impl<'r, S: Scalar, C> Iterator for SlotsWithRays<'r, S, C> {
+    type Item = (&'r mut C, Option<Ray<S>>);
+
+    // Built for size, left to the compiler (flash: the step in each loop of its own).
+    #[cfg_attr(not(microray_small), inline(always))]
+    #[cfg_attr(microray_small, inline)]
+    fn next(&mut self) -> Option<Self::Item> {
+        let slot = self.slots.next()?;
+        Some((slot, self.rays.next()?))
     }
 }
 

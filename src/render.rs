@@ -866,6 +866,16 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         rays: RowRays<S>,
         row: &mut [C],
     ) {
+        // Nothing the rays can meet (every entry a miss, no tree: a scene's sky, the
+        // columns beside a ball): each pixel's search finds nothing, and its colour is
+        // black. No ray made (in fixed point each ray's length is a square root).
+        if self.shading == Shading::Color
+            && shader.tree().is_none()
+            && tests.iter().all(|entry| entry.test == RowTest::Miss)
+        {
+            row.fill(Rgb888::new(0, 0, 0).into());
+            return;
+        }
         for (slot, ray) in slots_with_rays(row, rays) {
             *slot = self.color_in_row(shader, ray, tests).into();
         }

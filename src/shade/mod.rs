@@ -237,7 +237,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
     }
 
     /// The tree the shader's objects are in, if they are.
-    fn tree(&self) -> Option<&Tree<'s, S>> {
+    pub(crate) fn tree(&self) -> Option<&Tree<'s, S>> {
         match &self.among {
             Among::Tree(tree) => Some(tree),
             _ => None,

@@ -64,8 +64,8 @@ pub(crate) fn narrow(v: crate::vec3::Vec3<f64>) -> crate::vec3::Vec3<Geo> {
     crate::vec3::Vec3::new(from_f64(v.x), from_f64(v.y), from_f64(v.z))
 }
 
-/// The geometry's value in `f64` (exact).
-#[cfg_attr(microray_small, allow(dead_code))]
+/// The geometry's value in `f64` (exact), for tests.
+#[cfg(test)]
 pub(crate) fn to_f64(value: Geo) -> f64 {
     #[cfg(feature = "geometry-f32")]
     {
@@ -100,6 +100,19 @@ pub(crate) const fn allowance(double: f64, single: f32) -> Geo {
 }
 
 pub(crate) use single_or_double::{abs, ceil, floor, sqrt, sqrt_rough};
+
+/// The square root of an `f32` (NaN below zero), correctly rounded: the float unit's where
+/// there is one, whatever the geometry's type (a row's spans in `f32`, see
+/// `shade::row::SpanFloat`).
+#[cfg_attr(microray_small, allow(dead_code))]
+#[inline]
+pub(crate) fn sqrt_f32(x: f32) -> f32 {
+    if x >= 0.0 {
+        crate::scalar::sqrtf(x)
+    } else {
+        f32::NAN
+    }
+}
 
 #[cfg(not(feature = "geometry-f32"))]
 mod single_or_double {
@@ -147,11 +160,7 @@ mod single_or_double {
     /// is one).
     #[inline]
     pub(crate) fn sqrt(x: f32) -> f32 {
-        if x >= 0.0 {
-            crate::scalar::sqrtf(x)
-        } else {
-            f32::NAN
-        }
+        super::sqrt_f32(x)
     }
 
     /// The square root (the correctly rounded one: it costs no more in `f32`).

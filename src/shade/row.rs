@@ -52,6 +52,7 @@ use crate::object::{Hit, Object, RowEntry, RowOrigin, RowTest, Shape, Surface, T
 use crate::plan::ShadowBoxes;
 use crate::ray::Ray;
 use crate::scalar::Scalar;
+#[cfg(not(microray_small))]
 use crate::scalar::geometry::Geo;
 use crate::vec3::Vec3;
 use core::ops::ControlFlow;
@@ -958,24 +959,106 @@ fn cone_span<S: Scalar>(spot: &Spot<S>, y: S, z: S) -> [S; 2] {
 }
 
 /// [`cone_span`], without its margins where `margins` is false (the tests' check that they
-/// are needed).
+/// are needed). In the geometry's type where that is the target's own or `f32`; else (the
+/// Cortex-M0's software `f64`) in software `f32`, about half the cost: the margins are the
+/// same ones the M4F's `f32` geometry takes (the micro:bit's spotlight 597 -> 527).
 #[cfg(not(microray_small))]
 fn cone_span_with<S: Scalar>(spot: &Spot<S>, y: S, z: S, margins: bool) -> [S; 2] {
-    use crate::scalar::geometry::{self, from_f64};
-    let room = if margins {
-        from_f64(1.0)
+    use crate::scalar::geometry;
+    if geometry::IN_HARDWARE || geometry::SINGLE {
+        let axis = spot.axis.to_geo();
+        let ways = [spot.cos_theta, y, z].map(S::to_geo);
+        cone_span_in::<S, Geo>([axis.x, axis.y, axis.z], ways, margins)
     } else {
-        from_f64(0.0)
-    };
-    let (y, z) = (y.to_geo(), z.to_geo());
+        cone_span_single(spot, y, z, margins)
+    }
+}
+
+/// [`cone_span_with`] in `f32`, whatever the geometry's type.
+#[cfg(not(microray_small))]
+fn cone_span_single<S: Scalar>(spot: &Spot<S>, y: S, z: S, margins: bool) -> [S; 2] {
+    let single = |v: S| v.to_f64() as f32;
+    let axis = [spot.axis.x, spot.axis.y, spot.axis.z].map(single);
+    cone_span_in::<S, f32>(axis, [spot.cos_theta, y, z].map(single), margins)
+}
+
+/// [`cone_span_with`] in the float type `F`, from the axis and the cone's cosine, `y` and
+/// `z` in it.
+#[cfg(not(microray_small))]
+fn cone_span_in<S: Scalar, F: SpanFloat>(
+    axis: [F; 3],
+    [cos, y, z]: [F; 3],
+    margins: bool,
+) -> [S; 2] {
+    let room = F::of(if margins { 1.0 } else { 0.0 });
     let c2 = y * y + z * z;
-    if !(c2 > from_f64(1e-6)) {
+    if !(c2 > F::of(1e-6)) {
         return Crossing::Every.bounds();
     }
-    let error = room
-        * (from_f64(4.0 * 10.0 / 16_777_216.0) + from_f64(4.0 / 32_768.0) / geometry::sqrt(c2));
-    let k = spot.cos_theta.to_geo() - error;
-    crossing(spot.axis.to_geo(), k, [y, z], room).bounds()
+    let error = room * (F::of(4.0 * 10.0 / 16_777_216.0) + F::of(4.0 / 32_768.0) / c2.root());
+    let k = cos - error;
+    let [ax, ay, az] = axis;
+    crossing(Vec3::new(ax, ay, az), k, [y, z], room).bounds()
+}
+
+/// A float type a row's spans are worked out in: the geometry's
+/// ([`Geo`](crate::scalar::geometry::Geo)), or `f32` where that is software `f64` (see
+/// [`cone_span_with`]).
+pub(super) trait SpanFloat:
+    Copy
+    + PartialOrd
+    + core::ops::Add<Output = Self>
+    + core::ops::Sub<Output = Self>
+    + core::ops::Mul<Output = Self>
+    + core::ops::Div<Output = Self>
+    + core::ops::Neg<Output = Self>
+{
+    /// The value, rounded.
+    fn of(value: f64) -> Self;
+    /// The square root.
+    fn root(self) -> Self;
+    /// `|self|`.
+    #[inline]
+    fn size(self) -> Self {
+        if self < Self::of(0.0) { -self } else { self }
+    }
+    /// The value in `f64` (exact).
+    fn wide(self) -> f64;
+}
+
+impl SpanFloat for f64 {
+    #[inline]
+    fn of(value: f64) -> Self {
+        value
+    }
+    #[inline]
+    fn root(self) -> Self {
+        libm::sqrt(self)
+    }
+    #[inline]
+    fn wide(self) -> f64 {
+        self
+    }
+}
+
+impl SpanFloat for f32 {
+    #[inline]
+    fn of(value: f64) -> Self {
+        value as f32
+    }
+    /// One instruction with a float unit (the comparison's branch cost the M4F's frames).
+    #[inline]
+    fn size(self) -> Self {
+        libm::fabsf(self)
+    }
+    #[inline]
+    fn root(self) -> Self {
+        crate::scalar::geometry::sqrt_f32(self)
+    }
+    #[inline]
+    fn wide(self) -> f64 {
+        f64::from(self)
+    }
 }
 
 /// Where the ways `(x, y, z)` of a row (see [`cone_span`]) can be within a cone.
@@ -1008,48 +1091,43 @@ impl<S: Scalar> Crossing<S> {
 /// span stands for), the roots' conditioning checked and the span widened by `room`
 /// thousandths of its size.
 #[cfg_attr(microray_small, allow(dead_code))]
-pub(super) fn crossing<S: Scalar>(
-    a: Vec3<Geo>,
-    k: Geo,
-    [y, z]: [Geo; 2],
-    room: Geo,
+pub(super) fn crossing<S: Scalar, F: SpanFloat>(
+    a: Vec3<F>,
+    k: F,
+    [y, z]: [F; 2],
+    room: F,
 ) -> Crossing<S> {
-    use crate::scalar::geometry::{self, from_f64};
     let c1 = y * a.y + z * a.z;
     let c2 = y * y + z * z;
-    if !(c2 > from_f64(1e-6)) {
+    if !(c2 > F::of(1e-6)) {
         return Crossing::Every;
     }
     let a2 = a.x * a.x - k * k;
-    if !(k > from_f64(0.0) && a2 < from_f64(-1e-3)) {
+    if !(k > F::of(0.0) && a2 < F::of(-1e-3)) {
         return Crossing::Every;
     }
-    let b = from_f64(2.0) * a.x * c1;
+    let b = F::of(2.0) * a.x * c1;
     let c = c1 * c1 - k * k * c2;
-    let terms = b * b + from_f64(4.0) * geometry::abs(a2 * c);
-    let disc = b * b - from_f64(4.0) * a2 * c;
-    if !(disc > from_f64(0.01) * terms) {
+    let terms = b * b + F::of(4.0) * (a2 * c).size();
+    let disc = b * b - F::of(4.0) * a2 * c;
+    if !(disc > F::of(0.01) * terms) {
         // No root: the row never enters the cone (a2 < 0), unless the discriminant is
         // too near zero to tell.
-        return if disc < -from_f64(0.01) * terms {
+        return if disc < -F::of(0.01) * terms {
             Crossing::Never
         } else {
             Crossing::Every
         };
     }
-    let root = geometry::sqrt(disc);
+    let root = disc.root();
     // a2 < 0: the roots in increasing order.
     let (low, high) = (
-        (-b + root) / (from_f64(2.0) * a2),
-        (-b - root) / (from_f64(2.0) * a2),
+        (-b + root) / (F::of(2.0) * a2),
+        (-b - root) / (F::of(2.0) * a2),
     );
-    let size =
-        geometry::abs(low) + geometry::abs(high) + (geometry::abs(b) + root) / geometry::abs(a2);
-    let widen: Geo = room * (from_f64(1e-3) * size + from_f64(4.0 / 65_536.0));
-    let (low, high) = (
-        geometry::to_f64(low - widen),
-        geometry::to_f64(high + widen),
-    );
+    let size = low.size() + high.size() + (b.size() + root) / a2.size();
+    let widen = room * (F::of(1e-3) * size + F::of(4.0 / 65_536.0));
+    let (low, high) = ((low - widen).wide(), (high + widen).wide());
     match (S::from_f64_checked(low), S::from_f64_checked(high)) {
         (Some(low), Some(high)) => Crossing::Within([low, high]),
         _ => Crossing::Every,
@@ -1114,8 +1192,20 @@ mod tests {
         xs: &[f64],
         margins: bool,
     ) -> Result<usize, String> {
+        check_span(spot, [y, z], xs, margins, cone_span_with)?;
+        // The Cortex-M0's way, in `f32` where the geometry is `f64`.
+        check_span(spot, [y, z], xs, margins, cone_span_single)
+    }
+
+    fn check_span<S: Scalar>(
+        spot: &Spot<S>,
+        [y, z]: [f64; 2],
+        xs: &[f64],
+        margins: bool,
+        cone_span: fn(&Spot<S>, S, S, bool) -> [S; 2],
+    ) -> Result<usize, String> {
         let (y, z) = (S::from_f64(y), S::from_f64(z));
-        let span = cone_span_with(spot, y, z, margins).map(S::order_key);
+        let span = cone_span(spot, y, z, margins).map(S::order_key);
         // The exact crossings of the stored cone, in `f64`.
         let (a, k) = (spot.axis.to_f64(), spot.cos_theta.to_f64());
         let mut all = xs.to_vec();

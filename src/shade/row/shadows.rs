@@ -401,7 +401,7 @@ fn ball_crossing<S: Scalar>(
     let k = sqrt(d2 - radius * radius) / d;
     let (y, z) = (-to_y.to_geo(), -to_z.to_geo());
     let room = if margins { 1.0 } else { 0.0 };
-    match crossing::<S>(axis, k, [y, z], from_f64(room)) {
+    match crossing::<S, Geo>(axis, k, [y, z], from_f64(room)) {
         Crossing::Within([low, high]) => Crossing::Within([-high, -low]),
         other => other,
     }

@@ -1094,9 +1094,10 @@ fn shade_row_testing<S: Scalar, C: From<Rgb888>>(
 }
 
 /// Each slot of `row` with the next of `rays`, as `row.iter_mut().zip(rays)` pairs them,
-/// the rays' step always in line in the loop (not built for size): fixed point's `Zip::next`, with the row's
-/// roots in it, was left out of line (a call a pixel, the ray handed back through memory:
-/// fplane0 on the micro:bit 382 -> 333 instructions a pixel without it).
+/// the rays' step always in line in the loop (not built for size): fixed point's
+/// `Zip::next`, with the row's roots in it, was left out of line (a call a pixel, the ray
+/// handed back through memory: fplane0 on the micro:bit 382 -> 332 instructions a pixel
+/// without it).
 #[inline(always)]
 fn slots_with_rays<S: Scalar, C>(row: &mut [C], rays: RowRays<S>) -> SlotsWithRays<'_, S, C> {
     SlotsWithRays {

@@ -84,7 +84,8 @@ impl I16F16 {
     }
 
     /// [`divide_by`](Self::divide_by) from the float unit's estimate (see
-    /// [`float_quotient_q16`]), where the quotient is below `2^22` (`2^6` in Q16.16): the same value.
+    /// [`float_quotient_q16`]), where the quotient's bits are below `2^22` (64 in Q16.16):
+    /// the same value; `None` elsewhere.
     #[inline(always)]
     fn divide_by_float(self, magnitude: u32, scale: f32, negative: bool) -> Option<Self> {
         let bits = self.to_bits();

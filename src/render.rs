@@ -460,12 +460,34 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
         rays: &RowRays<S>,
         within: Option<[u16; 2]>,
     ) -> Option<RowShading<'r, S>> {
+        let mut shading = None;
+        self.row_shading_in(&mut shading, shader, tests, rays, within);
+        shading
+    }
+
+    /// [`row_shading`](Self::row_shading) made in `slot` (the rows' loops: a shading
+    /// returned by value is copied, see `Shader::shared_row_shading`).
+    #[inline(never)]
+    fn row_shading_in<'r>(
+        &self,
+        slot: &mut Option<RowShading<'r, S>>,
+        shader: &Shader<'r, S>,
+        tests: &[RowEntry<S>],
+        rays: &RowRays<S>,
+        within: Option<[u16; 2]>,
+    ) {
         match self.shading {
             Shading::Color if self.rows_shared => {
                 let origin = rays.origin(self.shader.z_limit());
-                shader.shared_row_shading(tests, &origin, self.boxes().is_some(), within)
+                let by_boxes = self.boxes().is_some();
+                if shader
+                    .shared_row_shading(slot, tests, &origin, by_boxes, within)
+                    .is_none()
+                {
+                    *slot = None;
+                }
             }
-            _ => None,
+            _ => *slot = None,
         }
     }
 
@@ -589,7 +611,8 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         rays: RowRays<S>,
         row: &mut [C],
     ) {
-        let mut shading = self.row_shading(shader, tests, &rays, None);
+        let mut shading = None;
+        self.row_shading_in(&mut shading, shader, tests, &rays, None);
         // No object in the row (a scene's sky): every pixel black, with no ray made (the
         // host's; the firmware keeps its flash).
         #[cfg(feature = "batch")]
@@ -776,7 +799,7 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         {
             // The spanned entries first: the segment's shading reads them.
             let first = self.set_segment(tests, spans, boxes, None, camera_y, left, from, to);
-            *shading = self.row_shading(shader, tests, rays, Some(within));
+            self.row_shading_in(shading, shader, tests, rays, Some(within));
             if let (Some(own), Some(boxes)) = (shading.as_mut(), self.boxes()) {
                 own.set_segment(boxes, camera_y, within[0], within[1]);
             }
@@ -784,7 +807,7 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
             return first;
         }
         if *runs {
-            *shading = self.row_shading(shader, tests, rays, None);
+            self.row_shading_in(shading, shader, tests, rays, None);
             *runs = false;
         }
         self.set_segment(
@@ -951,7 +974,8 @@ impl<S: Scalar, const OBJECTS: usize> Renderer<'_, S, OBJECTS> {
         }
         let width = usize::from(self.camera.width());
         let spans = self.column_spans(tests, 0, width);
-        let mut shading = self.row_shading(shader, tests, &rays, None);
+        let mut shading = None;
+        self.row_shading_in(&mut shading, shader, tests, &rays, None);
         // No object in the row (a scene's sky), as `shade_segments` has it.
         #[cfg(feature = "batch")]
         if shading.is_none()

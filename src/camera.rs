@@ -147,6 +147,17 @@ pub struct RowRays<S> {
 }
 
 impl<S: Scalar> RowRays<S> {
+    /// The columns (first and last) of the next `count` rays: the stride apart.
+    #[cfg(all(feature = "plan", not(microray_small)))]
+    pub(crate) fn next_columns(&self, count: usize) -> [u16; 2] {
+        let steps = u16::try_from(count.saturating_sub(1)).unwrap_or(u16::MAX);
+        let first = self.x.i;
+        [
+            first,
+            first.saturating_add(steps.saturating_mul(self.x.stride)),
+        ]
+    }
+
     /// What every ray of the row shares, for the kinds' row tests (see
     /// [`crate::object::RowTest`]): the eye and the direction's `y` and `z`. Only the types
     /// that do not normalise primary rays keep `y` and `z` along a row.

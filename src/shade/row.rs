@@ -241,6 +241,21 @@ impl<S: Scalar> RowShading<'_, S> {
         level.shadows_per_pixel = any;
     }
 
+    /// Whether the row is [plain](Self::plain) and its one level neither mirrors, lets
+    /// light through nor glints: each pixel's colour is its lights' diffuse light and the
+    /// ambient, with no branch on those (a loop of its own: fplane0, aademo, spotlight).
+    pub(crate) fn bare(&self) -> bool {
+        match self.levels.as_slice() {
+            [level] => {
+                level.mirror == Mirror::None
+                    && !level.transparent
+                    && !level.glints
+                    && level.pattern.is_none()
+            }
+            _ => false,
+        }
+    }
+
     /// The plane the row's primary rays meet at one `t` (those that meet nothing nearer).
     pub(crate) fn first_plane(&self) -> Option<usize> {
         self.levels.first().map(|level| level.index)
@@ -548,6 +563,12 @@ impl<'s, S: Scalar> Shader<'s, S> {
         self.level(&row.levels, ray, S::ZERO, 0, None)
     }
 
+    /// [`shade_in_plain_row`](Self::shade_in_plain_row) for a [bare](RowShading::bare) row.
+    #[inline(always)]
+    pub(crate) fn shade_in_bare_row(&self, row: &RowShading<'s, S>, ray: &Ray<S>) -> Vec3<S> {
+        self.level_of::<false, false, true>(&row.levels, ray, S::ZERO, 0, None)
+    }
+
     /// [`shade_in_row`](Self::shade_in_row) where each pixel tests some shadow rays.
     #[inline(never)]
     fn shade_testing_shadows(
@@ -579,7 +600,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
         ray: &Ray<S>,
         shadows: &RowShadows<'s, S>,
     ) -> Vec3<S> {
-        self.level_of::<true, false>(levels, ray, S::ZERO, 0, Some(shadows))
+        self.level_of::<true, false, false>(levels, ray, S::ZERO, 0, Some(shadows))
     }
 
     /// [`level`](Self::level) for a primary ray whose shadow rays take transparent
@@ -595,9 +616,9 @@ impl<'s, S: Scalar> Shader<'s, S> {
         shadows: &RowShadows<'s, S>,
     ) -> Vec3<S> {
         if textured {
-            self.level_of::<true, true>(levels, ray, S::ZERO, 0, Some(shadows))
+            self.level_of::<true, true, false>(levels, ray, S::ZERO, 0, Some(shadows))
         } else {
-            self.level_of::<false, true>(levels, ray, S::ZERO, 0, Some(shadows))
+            self.level_of::<false, true, false>(levels, ray, S::ZERO, 0, Some(shadows))
         }
     }
 
@@ -655,14 +676,15 @@ impl<'s, S: Scalar> Shader<'s, S> {
         depth: u8,
         shadows: Option<&RowShadows<'s, S>>,
     ) -> Vec3<S> {
-        self.level_of::<false, false>(levels, ray, total, depth, shadows)
+        self.level_of::<false, false, false>(levels, ray, total, depth, shadows)
     }
 
     /// [`level`](Self::level), `TEXTURED` for a level on a textured rectangle (its
     /// colours found by each pixel), `FILTERED` where the pixels' shadow rays walk through
-    /// transparent objects (constants, so that the planes' copies have no code for them).
+    /// transparent objects, `BARE` for a [bare](RowShading::bare) row's (constants, so that
+    /// the planes' copies have no code for them).
     #[inline(always)]
-    fn level_of<const TEXTURED: bool, const FILTERED: bool>(
+    fn level_of<const TEXTURED: bool, const FILTERED: bool, const BARE: bool>(
         &self,
         levels: &[Level<'s, S>],
         ray: &Ray<S>,
@@ -684,27 +706,20 @@ impl<'s, S: Scalar> Shader<'s, S> {
         };
         let len = ray.length();
         let total = total + level.t * len;
+        // What a pixel's shadow ray finds, where the pixels test them.
+        let reach = |lit: &RowLight<'s, S>, to_light: Vec3<S>| {
+            self.pixel_reach::<FILTERED>(lit, &hit, to_light, level.index, shadows)
+        };
         let mut c = if TEXTURED && !cfg!(microray_small) {
             let colors = self.pattern_colors(level, &hit);
-            self.local_in_row::<true, FILTERED>(level, &hit, ray, total, colors, |lit, to_light| {
-                self.pixel_reach::<FILTERED>(lit, &hit, to_light, level.index, shadows)
-            })
+            self.local_in_row::<true, FILTERED, false>(level, &hit, ray, total, colors, reach)
         } else if shadows.is_some() || cfg!(microray_small) {
             // Built for size, one copy of the light loop, the test decided as it runs.
             let colors = (Vec3::ZERO, Vec3::ZERO);
-            self.local_in_row::<false, FILTERED>(
-                level,
-                &hit,
-                ray,
-                total,
-                colors,
-                |lit, to_light| {
-                    self.pixel_reach::<FILTERED>(lit, &hit, to_light, level.index, shadows)
-                },
-            )
+            self.local_in_row::<false, FILTERED, false>(level, &hit, ray, total, colors, reach)
         } else {
             let colors = (Vec3::ZERO, Vec3::ZERO);
-            self.local_in_row::<false, FILTERED>(level, &hit, ray, total, colors, |_, _| {
+            self.local_in_row::<false, FILTERED, BARE>(level, &hit, ray, total, colors, |_, _| {
                 Reach::Clear
             })
         };
@@ -715,7 +730,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
             // A row's levels are its primary rays and their mirror rays: bound 1.
             path: Path { depth, halvings: 0 },
         };
-        if cfg!(feature = "reflection") && level.mirror != Mirror::None {
+        if !BARE && cfg!(feature = "reflection") && level.mirror != Mirror::None {
             let reflected = Ray::with_length(hit.point, reflect(ray.dir, hit.normal), len);
             let seen = match level.mirror {
                 Mirror::Trace => self.follow(&reflected, &onward, onward.path.mirrored()),
@@ -726,7 +741,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
             };
             c = c + seen.mul_each(material.specular);
         }
-        if cfg!(feature = "transparency") && level.transparent {
+        if !BARE && cfg!(feature = "transparency") && level.transparent {
             c = self.through(c, ray, &hit, material, &onward);
         }
         c
@@ -763,9 +778,9 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// [`local_divided`](Self::local_divided) with a level's lights, `reach` telling what
     /// a light's shadow ray finds at this pixel (given the light and the way to it); on a
     /// `TEXTURED` level, `colors` are the pixel's diffuse and ambient colours (else not
-    /// read).
+    /// read); `BARE`, a [bare](RowShading::bare) row's level (no glints).
     #[inline(always)]
-    fn local_in_row<const TEXTURED: bool, const FILTERED: bool>(
+    fn local_in_row<const TEXTURED: bool, const FILTERED: bool, const BARE: bool>(
         &self,
         level: &Level<'s, S>,
         hit: &Hit<S>,
@@ -826,7 +841,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
                 diffuse = diffuse.mul_each(texel);
             }
             let r = add_diffuse(diffuse, lit.cos_d, d_squared, total, &mut c);
-            let glints = cfg!(feature = "glint") && level.glints;
+            let glints = !BARE && cfg!(feature = "glint") && level.glints;
             // `1 / total` (a wide product) only where a glint or the ambient light needs it, in
             // fixed point; the floats' product is one instruction, not worth the branch.
             if S::WIDE_RANGE || glints || (level.ambient && per_total.is_none()) {

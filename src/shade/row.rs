@@ -991,9 +991,8 @@ fn cone_span<S: Scalar>(spot: &Spot<S>, y: S, z: S) -> [S; 2] {
 fn cone_span_with<S: Scalar>(spot: &Spot<S>, y: S, z: S, margins: bool) -> [S; 2] {
     use crate::scalar::geometry;
     if geometry::IN_HARDWARE || geometry::SINGLE {
-        let axis = spot.axis.to_geo();
         let ways = [spot.cos_theta, y, z].map(S::to_geo);
-        cone_span_in::<S, Geo>([axis.x, axis.y, axis.z], ways, margins)
+        cone_span_in::<S, Geo>(spot.axis.to_geo(), ways, margins)
     } else {
         cone_span_single(spot, y, z, margins)
     }
@@ -1003,7 +1002,11 @@ fn cone_span_with<S: Scalar>(spot: &Spot<S>, y: S, z: S, margins: bool) -> [S; 2
 #[cfg(not(microray_small))]
 fn cone_span_single<S: Scalar>(spot: &Spot<S>, y: S, z: S, margins: bool) -> [S; 2] {
     let single = |v: S| v.to_f64() as f32;
-    let axis = [spot.axis.x, spot.axis.y, spot.axis.z].map(single);
+    let axis = Vec3::new(
+        single(spot.axis.x),
+        single(spot.axis.y),
+        single(spot.axis.z),
+    );
     cone_span_in::<S, f32>(axis, [spot.cos_theta, y, z].map(single), margins)
 }
 
@@ -1011,7 +1014,7 @@ fn cone_span_single<S: Scalar>(spot: &Spot<S>, y: S, z: S, margins: bool) -> [S;
 /// `z` in it.
 #[cfg(not(microray_small))]
 fn cone_span_in<S: Scalar, F: SpanFloat>(
-    axis: [F; 3],
+    axis: Vec3<F>,
     [cos, y, z]: [F; 3],
     margins: bool,
 ) -> [S; 2] {
@@ -1021,9 +1024,7 @@ fn cone_span_in<S: Scalar, F: SpanFloat>(
         return Crossing::Every.bounds();
     }
     let error = room * (F::of(4.0 * 10.0 / 16_777_216.0) + F::of(4.0 / 32_768.0) / c2.root());
-    let k = cos - error;
-    let [ax, ay, az] = axis;
-    crossing(Vec3::new(ax, ay, az), k, [y, z], room).bounds()
+    crossing(axis, cos - error, [y, z], room).bounds()
 }
 
 /// A float type a row's spans are worked out in: the geometry's

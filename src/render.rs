@@ -1321,38 +1321,43 @@ where
     renderer.render_area(target, all, &mut row, |_| ControlFlow::Continue(()))
 }
 
-#[cfg(all(test, feature = "std", feature = "plan", feature = "parser"))]
+#[cfg(all(test, feature = "std", feature = "plan"))]
 mod tests {
     use super::*;
-    use crate::parse::{no_textures, parse_scene};
+    use crate::camera::CameraDef;
+    use crate::light::LightDef;
+    use crate::material::MaterialDef;
+    use crate::object::{ObjectDef, RectDef};
     use crate::shade::ROW_LIGHTS;
-    use std::format;
-    use std::string::String;
+    use std::vec::Vec;
 
     /// A rectangle facing the eye, its edges slanted (aademo's), lit by `lights` lights:
     /// its rows have runs of columns, and with more than `ROW_LIGHTS` lights no shading
     /// of their own.
-    fn tilted_panel(lights: usize) -> String {
-        let mut text = String::from(
-            "camera c { pixeldim 80 60 worlddim 8 6 viewpoint 4 4 4 }
-             material white { diffuse 5 5 5 ambient 2 2 2 }
-             fplane p { material white normal 0 0 1 point 1 -2 -3 xdir 1 0.4 0 dimensions 8 6 }",
+    fn tilted_panel<S: Scalar>(lights: usize) -> Scene<'static, S, 4, 4, 8, 0, 80> {
+        let camera = CameraDef::new("c", [80, 60], [8.0, 6.0], [4.0, 4.0, 4.0]);
+        let white = MaterialDef::new("white")
+            .diffuse([5.0; 3])
+            .ambient([2.0; 3]);
+        let rect = RectDef::new(
+            [0.0, 0.0, 1.0],
+            [1.0, -2.0, -3.0],
+            [1.0, 0.4, 0.0],
+            [8.0, 6.0],
         );
-        for i in 0..lights {
-            text.push_str(&format!(
-                "light l{i} {{ location {} 3 0 emissivity 1 1 1 }}",
-                2 + i
-            ));
-        }
-        text
+        let panel = ObjectDef::fplane("p", "white", rect);
+        let lights: Vec<_> = (0..lights)
+            .map(|i| LightDef::point("l", [2.0 + i as f64, 3.0, 0.0], [1.0; 3]))
+            .collect();
+        Scene::from_defs(&camera, &[white], &[], &lights, &[panel])
+            .unwrap_or_else(|e| panic!("{e:?}"))
     }
 
     /// Shades every segment of every row with `shade_pixels` (the firmware's loop, which
     /// fills black where no ray can meet anything) and with each pixel's own search; returns
     /// how many segments beside a run of columns were filled black.
-    fn segments_match<S: Scalar>(text: &str) -> usize {
-        let scene: Scene<'_, S, 4, 4, 8, 0, 80> =
-            parse_scene(text.as_bytes(), no_textures).unwrap_or_else(|e| panic!("{e:?}"));
+    fn segments_match<S: Scalar>(lights: usize) -> usize {
+        let scene = tilted_panel::<S>(lights);
         let renderer: Renderer<'_, S, 4> = Renderer::new(&scene);
         let shader = renderer.shader();
         let width = usize::from(renderer.camera.width());
@@ -1396,11 +1401,10 @@ mod tests {
     #[test]
     fn the_pixels_beside_a_run_of_columns_are_black_and_those_in_it_are_shaded() {
         for lights in [1, ROW_LIGHTS + 1] {
-            let text = tilted_panel(lights);
             // Rows beside the rectangle's runs are filled without rays.
-            assert!(segments_match::<f32>(&text) > 0, "{lights} lights");
+            assert!(segments_match::<f32>(lights) > 0, "{lights} lights");
             assert!(
-                segments_match::<crate::scalar::I16F16>(&text) > 0,
+                segments_match::<crate::scalar::I16F16>(lights) > 0,
                 "{lights} lights"
             );
         }

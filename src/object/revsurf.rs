@@ -643,17 +643,16 @@ impl<S: Scalar> Pieces<S> {
         mut m: S,
         crossed: bool,
     ) -> Option<S> {
-        // The right halves left behind, nearest last.
-        let mut stack: [(S, S, S); DEPTH] = [(S::ZERO, S::ZERO, S::ZERO); DEPTH];
-        let mut depth = 0;
+        // The right halves left behind, nearest last (a `heapless::Vec`: an array would be
+        // filled with zeros first, 2 % of vases' frame).
+        let mut stack: heapless::Vec<(S, S, S), DEPTH> = heapless::Vec::new();
         // The nearest bracket found so far: refined if the budget runs out before every
         // piece to its left is settled.
         let mut known = crossed.then_some(piece);
         loop {
             let (gm, wave_m) = search.g(m);
             // Cannot fail: a piece is split only at depth < DEPTH.
-            *stack.get_mut(depth)? = (piece.b, piece.gb, piece.wave_b);
-            depth += 1;
+            stack.push((piece.b, piece.gb, piece.wave_b)).ok()?;
             (piece.b, piece.gb, piece.wave_b) = (m, gm, wave_m);
             // The next piece to split, or the root.
             loop {
@@ -666,7 +665,7 @@ impl<S: Scalar> Pieces<S> {
                     let k = known?;
                     return Some(search.refine(k.a, k.ga, k.b, k.gb));
                 }
-                match self.judge(search, &piece, depth) {
+                match self.judge(search, &piece, stack.len()) {
                     Verdict::Root => {
                         return Some(search.refine(piece.a, piece.ga, piece.b, piece.gb));
                     }
@@ -679,11 +678,7 @@ impl<S: Scalar> Pieces<S> {
                     }
                     Verdict::Empty => {
                         // No root in [a, b]: on to the right half left behind.
-                        if depth == 0 {
-                            return None;
-                        }
-                        depth -= 1;
-                        let next = stack.get(depth).copied()?;
+                        let next = stack.pop()?;
                         (piece.a, piece.ga, piece.wave_a) = (piece.b, piece.gb, piece.wave_b);
                         (piece.b, piece.gb, piece.wave_b) = next;
                     }

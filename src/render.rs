@@ -444,29 +444,19 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
         let camera_y = self.camera.row_from_top(row);
         let rays = self.camera.row_rays(camera_y, 0);
         let shader = self.shader();
-        self.row_tests(camera_y, &rays)
-            .is_some_and(|tests| self.row_shading(&shader, &tests, &rays, None).is_some())
+        self.row_tests(camera_y, &rays).is_some_and(|tests| {
+            let mut slot = None;
+            self.row_shading_in(&mut slot, &shader, &tests, &rays, None);
+            slot.is_some()
+        })
     }
 
-    /// The shading of a row whose tests are prepared, when its pixels are shaded together
-    /// (colours only: the object-id view shades each pixel alone). Out of line: it runs once
-    /// a row, and in line its levels and lights sat in the render's frame for the whole
-    /// render (about 1.5 KB of the micro:bit's peak stack: docs/speed-log.md, step 6).
-    #[inline(never)]
-    fn row_shading<'r>(
-        &self,
-        shader: &Shader<'r, S>,
-        tests: &[RowEntry<S>],
-        rays: &RowRays<S>,
-        within: Option<[u16; 2]>,
-    ) -> Option<RowShading<'r, S>> {
-        let mut shading = None;
-        self.row_shading_in(&mut shading, shader, tests, rays, within);
-        shading
-    }
-
-    /// [`row_shading`](Self::row_shading) made in `slot` (the rows' loops: a shading
-    /// returned by value is copied, see `Shader::shared_row_shading`).
+    /// The shading of a row whose tests are prepared, made in `slot` (`None` when its
+    /// pixels are not shaded together; colours only: the object-id view shades each pixel
+    /// alone). In place: a shading returned by value is copied (see
+    /// `Shader::shared_row_shading`). Out of line: it runs once a row, and in line its
+    /// levels and lights sat in the render's frame for the whole render (about 1.5 KB of
+    /// the micro:bit's peak stack: docs/speed-log.md, step 6).
     #[inline(never)]
     fn row_shading_in<'r>(
         &self,
@@ -480,12 +470,7 @@ impl<'s, S: Scalar, const OBJECTS: usize> Renderer<'s, S, OBJECTS> {
             Shading::Color if self.rows_shared => {
                 let origin = rays.origin(self.shader.z_limit());
                 let by_boxes = self.boxes().is_some();
-                if shader
-                    .shared_row_shading(slot, tests, &origin, by_boxes, within)
-                    .is_none()
-                {
-                    *slot = None;
-                }
+                shader.shared_row_shading(slot, tests, &origin, by_boxes, within);
             }
             _ => *slot = None,
         }

@@ -488,13 +488,16 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
         let tests: &RowTests<S, OBJECTS> = tests;
         let first_object =
             |ray: Option<Ray<S>>| seen(ray.and_then(|r| shader.first_object_in_row(&r, tests)));
-        match renderer.row_shading(shader, tests, &rays, None) {
+        // Made in place, as `render_area`'s rows make theirs.
+        let mut slot = None;
+        renderer.row_shading_in(&mut slot, shader, tests, &rays, None);
+        match &slot {
             // The row's fast case in a loop of its own, as `render_area` has it; every ray
             // meets the row's plane.
             Some(shading) if shading.plain() => {
                 let plane = seen(shading.plane());
                 for (p, ray) in sums.iter_mut().zip(rays) {
-                    let c = ray.map_or(Vec3::ZERO, |r| shader.shade_in_plain_row(&shading, &r));
+                    let c = ray.map_or(Vec3::ZERO, |r| shader.shade_in_plain_row(shading, &r));
                     p.add(bytes(c));
                     if objects {
                         p.object = if ray.is_some() { plane } else { 0 };
@@ -504,10 +507,10 @@ impl<S: Scalar, const OBJECTS: usize> Lines<'_, '_, S, OBJECTS> {
             Some(shading) => {
                 let mut shadows = RowShadows::new();
                 let resolution = crate::plan::resolution(self.renderer.camera);
-                shader.prepare_row_shadows(&mut shadows, &shading, resolution);
+                shader.prepare_row_shadows(&mut shadows, shading, resolution);
                 for (p, ray) in sums.iter_mut().zip(rays) {
                     let c = ray.map_or(Vec3::ZERO, |r| {
-                        shader.shade_in_row(&shading, &shadows, tests, &r)
+                        shader.shade_in_row(shading, &shadows, tests, &r)
                     });
                     p.add(bytes(c));
                     if objects {

@@ -101,19 +101,6 @@ pub(crate) const fn allowance(double: f64, single: f32) -> Geo {
 
 pub(crate) use single_or_double::{abs, ceil, floor, sqrt, sqrt_rough};
 
-/// The square root of an `f32` (NaN below zero), correctly rounded: the float unit's where
-/// there is one, whatever the geometry's type (a row's spans in `f32`, see
-/// `shade::row::SpanFloat`).
-#[cfg_attr(microray_small, allow(dead_code))]
-#[inline]
-pub(crate) fn sqrt_f32(x: f32) -> f32 {
-    if x >= 0.0 {
-        crate::scalar::sqrtf(x)
-    } else {
-        f32::NAN
-    }
-}
-
 #[cfg(not(feature = "geometry-f32"))]
 mod single_or_double {
     /// `|x|`.
@@ -160,7 +147,11 @@ mod single_or_double {
     /// is one).
     #[inline]
     pub(crate) fn sqrt(x: f32) -> f32 {
-        super::sqrt_f32(x)
+        if x >= 0.0 {
+            crate::scalar::sqrtf(x)
+        } else {
+            f32::NAN
+        }
     }
 
     /// The square root (the correctly rounded one: it costs no more in `f32`).

@@ -283,12 +283,8 @@ impl<'s, S: Scalar> Shader<'s, S> {
         origin: &RowOrigin<S>,
     ) -> Option<RowShading<'s, S>> {
         let mut shading = None;
-        if !self.shares_rows()
-            || self
-                .shared_row_shading(&mut shading, row, origin, false, None)
-                .is_none()
-        {
-            return None;
+        if self.shares_rows() {
+            self.shared_row_shading(&mut shading, row, origin, false, None);
         }
         shading
     }
@@ -345,11 +341,10 @@ impl<'s, S: Scalar> Shader<'s, S> {
     /// [`row_shading`](Self::row_shading) for a shader whose rows can be shared
     /// ([`shares_rows`](Self::shares_rows)), made in `slot`; `within`, for the columns
     /// `[first, last]` of the row only, where the runs of columns that hold them all are
-    /// planes at one `t` (see [`row_plane_within`]). `None` where the row is not shaded
-    /// together: `slot` is then left half made, and the caller sets it to `None`. In
-    /// place: returned by value, the shading (several hundred bytes) was copied once a
-    /// row, 3-7 instructions a pixel at 160 columns on the Cortex-M4F.
-    #[must_use]
+    /// planes at one `t` (see [`row_plane_within`]). `slot` is `None` after where the row
+    /// is not shaded together. In place: returned by value, the shading (several hundred
+    /// bytes) was copied once a row, 3-7 instructions a pixel at 160 columns on the
+    /// Cortex-M4F.
     pub(crate) fn shared_row_shading(
         &self,
         slot: &mut Option<RowShading<'s, S>>,
@@ -357,9 +352,12 @@ impl<'s, S: Scalar> Shader<'s, S> {
         origin: &RowOrigin<S>,
         by_boxes: bool,
         within: Option<[u16; 2]>,
-    ) -> Option<()> {
+    ) {
+        let Some((mut index, mut t, tested)) = row_plane_within(row, within) else {
+            *slot = None;
+            return;
+        };
         let shadows = self.stages.illumination && self.stages.shadows;
-        let (mut index, mut t, tested) = row_plane_within(row, within)?;
         // A ray of the row in all but `x`, whose hits have the row's `y` and `z`.
         let mut ray = Ray::new(origin.eye, Vec3::new(S::ZERO, origin.dy, origin.dz));
         let all_ignore_x = self.all_ignore_x();
@@ -376,7 +374,9 @@ impl<'s, S: Scalar> Shader<'s, S> {
             filtered: shadows && self.filters_shadows() || projected,
             projected,
         });
-        loop {
+        // The levels, until one ends the row's shading (`None`: the row is not shaded
+        // together, and the half-made shading goes).
+        let made = (|| loop {
             let object = self.objects.get(index)?;
             // A textured rectangle's run or a tiled plane: the primary rays' level only, its
             // colours found by each pixel (not built for size).
@@ -396,7 +396,7 @@ impl<'s, S: Scalar> Shader<'s, S> {
                     Some(Level { mirror, .. }) => *mirror = Mirror::Trace,
                     None => return None,
                 }
-                break;
+                break Some(());
             }
             let surface = object.surface(&self.palette, &ray, t)?;
             let shadow_per_pixel = shadows && !(all_ignore_x || self.shadows_ignore_x(index));
@@ -429,11 +429,11 @@ impl<'s, S: Scalar> Shader<'s, S> {
             let level = shading.levels.last_mut()?;
             self.row_lights(level, shadows, shadow_per_pixel, by_boxes);
             if !self.mirrors(material) {
-                break;
+                break Some(());
             }
             if full || !all_ignore_x || projected {
                 level.mirror = Mirror::Trace;
-                break;
+                break Some(());
             }
             // The mirror rays: `y` and `z` of base and direction are the row's.
             ray = Ray::new(point, reflect(ray.dir, normal));
@@ -447,12 +447,14 @@ impl<'s, S: Scalar> Shader<'s, S> {
             );
             let Some((next_index, next_t)) = next else {
                 level.mirror = Mirror::Nothing;
-                break;
+                break Some(());
             };
             level.mirror = Mirror::Level;
             (index, t) = (next_index, next_t);
+        })();
+        if made.is_none() {
+            *slot = None;
         }
-        Some(())
     }
 
     /// Adds to `level` the lights that can reach its surface along the row; shadow rays are
@@ -1013,78 +1015,15 @@ fn cone_span_single<S: Scalar>(spot: &Spot<S>, y: S, z: S, margins: bool) -> [S;
 /// [`cone_span_with`] in the float type `F`, from the axis and the cone's cosine, `y` and
 /// `z` in it.
 #[cfg(not(microray_small))]
-fn cone_span_in<S: Scalar, F: SpanFloat>(
-    axis: Vec3<F>,
-    [cos, y, z]: [F; 3],
-    margins: bool,
-) -> [S; 2] {
-    let room = F::of(if margins { 1.0 } else { 0.0 });
+fn cone_span_in<S: Scalar, F: Scalar>(axis: Vec3<F>, [cos, y, z]: [F; 3], margins: bool) -> [S; 2] {
+    let room = F::from_f64(if margins { 1.0 } else { 0.0 });
     let c2 = y * y + z * z;
-    if !(c2 > F::of(1e-6)) {
+    if !(c2 > F::from_f64(1e-6)) {
         return Crossing::Every.bounds();
     }
-    let error = room * (F::of(4.0 * 10.0 / 16_777_216.0) + F::of(4.0 / 32_768.0) / c2.root());
+    let error =
+        room * (F::from_f64(4.0 * 10.0 / 16_777_216.0) + F::from_f64(4.0 / 32_768.0) / c2.sqrt());
     crossing(axis, cos - error, [y, z], room).bounds()
-}
-
-/// A float type a row's spans are worked out in: the geometry's
-/// ([`Geo`](crate::scalar::geometry::Geo)), or `f32` where that is software `f64` (see
-/// [`cone_span_with`]).
-pub(super) trait SpanFloat:
-    Copy
-    + PartialOrd
-    + core::ops::Add<Output = Self>
-    + core::ops::Sub<Output = Self>
-    + core::ops::Mul<Output = Self>
-    + core::ops::Div<Output = Self>
-    + core::ops::Neg<Output = Self>
-{
-    /// The value, rounded.
-    fn of(value: f64) -> Self;
-    /// The square root.
-    fn root(self) -> Self;
-    /// `|self|`.
-    #[inline]
-    fn size(self) -> Self {
-        if self < Self::of(0.0) { -self } else { self }
-    }
-    /// The value in `f64` (exact).
-    fn wide(self) -> f64;
-}
-
-impl SpanFloat for f64 {
-    #[inline]
-    fn of(value: f64) -> Self {
-        value
-    }
-    #[inline]
-    fn root(self) -> Self {
-        libm::sqrt(self)
-    }
-    #[inline]
-    fn wide(self) -> f64 {
-        self
-    }
-}
-
-impl SpanFloat for f32 {
-    #[inline]
-    fn of(value: f64) -> Self {
-        value as f32
-    }
-    /// One instruction with a float unit (the comparison's branch cost the M4F's frames).
-    #[inline]
-    fn size(self) -> Self {
-        libm::fabsf(self)
-    }
-    #[inline]
-    fn root(self) -> Self {
-        crate::scalar::geometry::sqrt_f32(self)
-    }
-    #[inline]
-    fn wide(self) -> f64 {
-        f64::from(self)
-    }
 }
 
 /// Where the ways `(x, y, z)` of a row (see [`cone_span`]) can be within a cone.
@@ -1117,7 +1056,7 @@ impl<S: Scalar> Crossing<S> {
 /// span stands for), the roots' conditioning checked and the span widened by `room`
 /// thousandths of its size.
 #[cfg_attr(microray_small, allow(dead_code))]
-pub(super) fn crossing<S: Scalar, F: SpanFloat>(
+pub(super) fn crossing<S: Scalar, F: Scalar>(
     a: Vec3<F>,
     k: F,
     [y, z]: [F; 2],
@@ -1125,35 +1064,35 @@ pub(super) fn crossing<S: Scalar, F: SpanFloat>(
 ) -> Crossing<S> {
     let c1 = y * a.y + z * a.z;
     let c2 = y * y + z * z;
-    if !(c2 > F::of(1e-6)) {
+    if !(c2 > F::from_f64(1e-6)) {
         return Crossing::Every;
     }
     let a2 = a.x * a.x - k * k;
-    if !(k > F::of(0.0) && a2 < F::of(-1e-3)) {
+    if !(k > F::from_f64(0.0) && a2 < F::from_f64(-1e-3)) {
         return Crossing::Every;
     }
-    let b = F::of(2.0) * a.x * c1;
+    let b = F::from_f64(2.0) * a.x * c1;
     let c = c1 * c1 - k * k * c2;
-    let terms = b * b + F::of(4.0) * (a2 * c).size();
-    let disc = b * b - F::of(4.0) * a2 * c;
-    if !(disc > F::of(0.01) * terms) {
+    let terms = b * b + F::from_f64(4.0) * (a2 * c).abs();
+    let disc = b * b - F::from_f64(4.0) * a2 * c;
+    if !(disc > F::from_f64(0.01) * terms) {
         // No root: the row never enters the cone (a2 < 0), unless the discriminant is
         // too near zero to tell.
-        return if disc < -F::of(0.01) * terms {
+        return if disc < -F::from_f64(0.01) * terms {
             Crossing::Never
         } else {
             Crossing::Every
         };
     }
-    let root = disc.root();
+    let root = disc.sqrt();
     // a2 < 0: the roots in increasing order.
     let (low, high) = (
-        (-b + root) / (F::of(2.0) * a2),
-        (-b - root) / (F::of(2.0) * a2),
+        (-b + root) / (F::from_f64(2.0) * a2),
+        (-b - root) / (F::from_f64(2.0) * a2),
     );
-    let size = low.size() + high.size() + (b.size() + root) / a2.size();
-    let widen = room * (F::of(1e-3) * size + F::of(4.0 / 65_536.0));
-    let (low, high) = ((low - widen).wide(), (high + widen).wide());
+    let size = low.abs() + high.abs() + (b.abs() + root) / a2.abs();
+    let widen = room * (F::from_f64(1e-3) * size + F::from_f64(4.0 / 65_536.0));
+    let (low, high) = ((low - widen).to_f64(), (high + widen).to_f64());
     match (S::from_f64_checked(low), S::from_f64_checked(high)) {
         (Some(low), Some(high)) => Crossing::Within([low, high]),
         _ => Crossing::Every,

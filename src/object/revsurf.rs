@@ -59,7 +59,9 @@
 //!    down to [`DEPTH`] halvings (1/65536 of the interval): nothing is missed that the ray
 //!    passes through for more than that.
 //! 3. Refinement: the Illinois variant of regula falsi on the bracket, until it stops
-//!    shrinking; the hit is the end on the ray's side (no acne: the point is never inside).
+//!    shrinking, its steps in the float types at the root of the secant plus the ray's
+//!    own bend (`A`); the hit is the end on the ray's side (no acne: the point is never
+//!    inside).
 //!
 //! Every step is bounded: at most [`MAX_BRACKETING`] evaluations of `G` a ray to bracket
 //! (if they run out, the nearest bracket found so far is refined) and
@@ -83,6 +85,11 @@ pub const DEPTH: usize = 16;
 
 /// Evaluations of `G` a ray at most while bracketing.
 pub const MAX_BRACKETING: u32 = 96;
+
+/// Refinement's first steps by [`Search::model_step`] (the float types): on vases, 2 of
+/// them took 6.0 evaluations a root and every step by it 5.7, but each costs twice a
+/// secant's step.
+const MODEL_STEPS: u8 = 2;
 
 /// Evaluations of `G` a ray at most: bracketing and refinement together.
 pub const MAX_EVALUATIONS: u32 = 128;
@@ -525,16 +532,30 @@ impl<S: Scalar> Search<'_, S> {
     }
 
     /// Narrows a bracket `[a, b]` (`G(a)` on the ray's side, `G(b)` not) by the Illinois
-    /// method; the end on the ray's side when it stops shrinking.
+    /// method; the end on the ray's side when it stops shrinking. Each step goes to the
+    /// root of a model of `G` through the bracket's ends (the value of an end kept twice
+    /// running halved, so that both ends move): the secant in fixed point, the secant and
+    /// the ray's bend in the float types ([`model_step`](Self::model_step)).
     fn refine(&mut self, mut a: S, mut ga: S, mut b: S, mut gb: S) -> S {
         // Which end was kept last time: halve its value if it is kept again.
         let mut kept = 0i8;
+        // The model's steps left: it pays while the bracket is wide.
+        let mut modelled = if S::WIDE_RANGE { MODEL_STEPS } else { 0 };
         while self.evaluations < MAX_EVALUATIONS {
             if gb == S::ZERO {
                 return b;
             }
-            let step = ga / (ga - gb);
-            let mut m = a + (b - a) * step;
+            let mut m = if modelled > 0 {
+                modelled -= 1;
+                a + self.model_step(b - a, ga, gb)
+            } else {
+                let step = ga / (ga - gb);
+                a + (b - a) * step
+            };
+            if S::WIDE_RANGE && !(m > a) {
+                // The step puts the root at `a`: the value next above tests that.
+                m = a.next_up();
+            }
             if !(m > a && m < b) {
                 m = a + (b - a) * S::SINE[0];
                 if !(m > a && m < b) {
@@ -557,6 +578,32 @@ impl<S: Scalar> Search<'_, S> {
             }
         }
         a
+    }
+
+    /// Where in `(0, w)` the model `ga + (s - A w) u + A u^2` of `G` on a bracket `w` wide
+    /// is zero: the secant (slope `s`) plus the bend of the ray's squared distance from the
+    /// axis (`A t^2 + ...`), exact but for the profile's own bend along the ray. It meets
+    /// `ga` and `gb` at the ends, so one root lies between; by the stable formula. Primary
+    /// rays cross a vase's wall nearly square to its axis, where the profile bends little:
+    /// with the secant alone the brackets narrowed by 8.7 evaluations a root in vases, with
+    /// this by 5.7. Not in fixed point, whose squares of slopes lose what the model gains
+    /// (Q16.16 took more evaluations and moved 2 % of revsurfe's pixels).
+    fn model_step(&self, w: S, ga: S, gb: S) -> S {
+        let bend = self.line.a;
+        let p = (gb - ga) / w - bend * w;
+        let root = (p * p - S::TWO * S::TWO * bend * ga).sqrt();
+        // `q = -(p + sign(p) root) / 2`: the roots are `ga / q` and `q / A`.
+        let q = if p < S::ZERO {
+            (root - p) * S::SINE[0]
+        } else {
+            -(p + root) * S::SINE[0]
+        };
+        let near = ga / q;
+        if near > S::ZERO && near < w {
+            near
+        } else {
+            q / bend
+        }
     }
 }
 

@@ -440,6 +440,57 @@ impl<S: Scalar> Search<'_, S> {
         ga.abs() + gb.abs() > self.slope_bound(a, b) * (b - a)
     }
 
+    /// Whether the ray keeps to its side of the surface all over `[a, b]`: outside, its
+    /// least distance from the axis there beyond the profile's largest radius there;
+    /// inside (an open end), its largest within the least radius. The radii are bounded
+    /// from the waves at the ends as in [`curved_one_way`](Self::curved_one_way), the
+    /// cone's from its heights at the ends. A sharper test than
+    /// [`root_free`](Self::root_free)'s slope, whose bound holds for the whole profile.
+    /// The float types only: in Q16.16 it took 1.8 KB of the Cortex-M0's flash for 0.1 %
+    /// of vases' frame there.
+    fn clear_of(&self, outside: bool, piece: &Piece<S>) -> bool {
+        let line = self.line;
+        let surface = self.surface;
+        let Piece {
+            a,
+            wave_a,
+            b,
+            wave_b,
+            ..
+        } = *piece;
+        let (least, most) = match surface.surfer {
+            Surfer::Cone => {
+                let (ra, _) = surface.radius(line.h0 + line.hd * a);
+                let (rb, _) = surface.radius(line.h0 + line.hd * b);
+                (ra.min(rb), ra.max(rb))
+            }
+            Surfer::Waist | Surfer::Vase => {
+                let half = S::SINE[0];
+                let reach = (b - a) * line.hd.abs() * surface.unscale;
+                let sum = wave_a + wave_b;
+                let lowest = ((sum - reach) * half).max(-S::ONE);
+                let highest = ((sum + reach) * half).min(S::ONE);
+                let radius = |wave: S| (S::ONE + half * wave) * surface.scale;
+                (radius(lowest), radius(highest))
+            }
+        };
+        let squared = |t: S| {
+            let p = line.w + line.d * t;
+            p.dot(p)
+        };
+        if outside {
+            // The squared distance is least at the ray's closest approach, or at an end.
+            let closest = if line.a > S::ZERO {
+                -line.b / line.a
+            } else {
+                a
+            };
+            squared(closest.max(a).min(b)) > most * most
+        } else {
+            squared(a).max(squared(b)) < least * least
+        }
+    }
+
     /// Whether `G` is convex along the whole ray, so that a piece whose ends differ in sign
     /// holds one root: `G'' = 2 A - hd^2 (r^2)''`, and `(r^2)''` is at most 3/4 for the
     /// vase and the waist and 8/9 for the cone (`r = scale rho(h / scale)`: the scales
@@ -673,7 +724,10 @@ impl<S: Scalar> Pieces<S> {
                 return Verdict::Root;
             }
             Verdict::Split(m, true)
-        } else if !splits || search.root_free(a, ga, b, gb) {
+        } else if !splits
+            || search.root_free(a, ga, b, gb)
+            || S::WIDE_RANGE && search.clear_of(self.outside, piece)
+        {
             Verdict::Empty
         } else {
             Verdict::Split(m, false)
@@ -871,6 +925,67 @@ mod tests {
                 worst = worst.max(off);
             }
             assert!(worst < 1e-9, "{surfer:?}: a hit {worst} off the surface");
+        }
+    }
+
+    /// Pieces of random rays' intervals that `clear_of` passes keep `G`'s sign at their
+    /// left end all along (2,000 samples each), from outside and from inside an open end.
+    #[test]
+    fn pieces_found_clear_hold_no_crossing() {
+        for surfer in [Surfer::Cone, Surfer::Waist, Surfer::Vase] {
+            let s = surface::<f64>(surfer);
+            let mut next = stream(11 + surfer as u64);
+            let (mut cleared, mut inside) = (0, 0);
+            for _ in 0..4_000 {
+                // From anywhere near the surface (inside its open ends too), any way.
+                let from = s.center
+                    + Vec3::new(next() - 0.5, next() - 0.5, next() - 0.5) * (2.5 * s.bound);
+                let dir = Vec3::new(next() - 0.5, next() - 0.5, next() - 0.5);
+                let Some((line, span)) = Line::within_reach(&s, from, dir) else {
+                    continue;
+                };
+                let Some((low, high)) = s.interval(&line, span) else {
+                    continue;
+                };
+                let mut search = Search {
+                    surface: &s,
+                    line: &line,
+                    evaluations: 0,
+                };
+                let (mut pa, mut pb) = (next(), next());
+                if pb < pa {
+                    (pa, pb) = (pb, pa);
+                }
+                let (ta, tb) = (low + (high - low) * pa, low + (high - low) * pb);
+                let ((ga, wave_a), (gb, wave_b)) = (search.g(ta), search.g(tb));
+                let piece = Piece {
+                    a: ta,
+                    ga,
+                    wave_a,
+                    b: tb,
+                    gb,
+                    wave_b,
+                };
+                let outside = ga > 0.0;
+                if !search.clear_of(outside, &piece) {
+                    continue;
+                }
+                cleared += 1;
+                inside += usize::from(!outside);
+                for k in 0..=2_000 {
+                    let t = ta + (tb - ta) * f64::from(k) / 2_000.0;
+                    let (g, _) = search.g(t);
+                    assert!(
+                        (g > 0.0) == outside,
+                        "{surfer:?}: G({t}) = {g} across, in a piece [{ta}, {tb}] found clear"
+                    );
+                }
+            }
+            // The test is not vacuous: many pieces are found clear, some from inside.
+            assert!(
+                cleared > 200 && inside > 5,
+                "{surfer:?}: {cleared} clear, {inside} inside"
+            );
         }
     }
 

@@ -368,6 +368,9 @@ struct Line<S> {
     /// `|d_perp|^2` and `w_perp . d_perp`: `rho^2(t) = A t^2 + 2 B t + C`.
     a: S,
     b: S,
+    /// The axis is `(0, 1, 0)` (every scene's `direction 0 1 0`) and the type a float:
+    /// `w` and `d` have no `y`, and their products by it are left out.
+    upright: bool,
 }
 
 impl<S: Scalar> Line<S> {
@@ -379,21 +382,40 @@ impl<S: Scalar> Line<S> {
     fn within_reach(surface: &RevSurf<S>, base: Vec3<S>, dir: Vec3<S>) -> Option<(Self, (S, S))> {
         let axis = surface.axis;
         let offset = base - surface.base;
-        let h0 = offset.dot(axis);
-        let hd = dir.dot(axis);
-        let w = offset - axis * h0;
-        let d = dir - axis * hd;
-        let a = d.dot(d);
+        // Upright, in a float type, the general formulas' products by the axis' zeros are
+        // exactly zero and the sums they join unchanged: the same values, fewer steps.
+        let upright = S::WIDE_RANGE && axis == Vec3::new(S::ZERO, S::ONE, S::ZERO);
+        let (h0, hd, w, d, a) = if upright {
+            let (w, d) = (
+                Vec3::new(offset.x, S::ZERO, offset.z),
+                Vec3::new(dir.x, S::ZERO, dir.z),
+            );
+            (offset.y, dir.y, w, d, d.x * d.x + d.z * d.z)
+        } else {
+            let h0 = offset.dot(axis);
+            let hd = dir.dot(axis);
+            let w = offset - axis * h0;
+            let d = dir - axis * hd;
+            (h0, hd, w, d, d.dot(d))
+        };
         let reach2 = surface.reach * surface.reach;
         let (mut low, mut high) = (S::ZERO, S::UNBOUNDED);
         let b = if a > S::ZERO {
             // `B^2 - A C = -q^2` with `q = (w x d) . axis`: no large squares cancel.
-            let q = w.cross(d).dot(axis);
+            let q = if upright {
+                w.z * d.x - w.x * d.z
+            } else {
+                w.cross(d).dot(axis)
+            };
             let discriminant = a * reach2 - q * q;
             if !(discriminant > S::ZERO) {
                 return None;
             }
-            let b = w.dot(d);
+            let b = if upright {
+                w.x * d.x + w.z * d.z
+            } else {
+                w.dot(d)
+            };
             let root = discriminant.sqrt();
             let (near, far) = ((-b - root) / a, (-b + root) / a);
             low = low.max(near);
@@ -405,7 +427,29 @@ impl<S: Scalar> Line<S> {
         } else {
             w.dot(d)
         };
-        Some((Self { w, d, h0, hd, a, b }, (low, high)))
+        let line = Self {
+            w,
+            d,
+            h0,
+            hd,
+            a,
+            b,
+            upright,
+        };
+        Some((line, (low, high)))
+    }
+
+    /// The ray's squared distance from the axis at `t`.
+    #[inline(always)]
+    fn squared(&self, t: S) -> S {
+        // `WIDE_RANGE` first: fixed point has no code for the upright case.
+        if S::WIDE_RANGE && self.upright {
+            let (x, z) = (self.w.x + self.d.x * t, self.w.z + self.d.z * t);
+            x * x + z * z
+        } else {
+            let p = self.w + self.d * t;
+            p.dot(p)
+        }
     }
 }
 
@@ -422,9 +466,9 @@ impl<S: Scalar> Search<'_, S> {
     fn g(&mut self, t: S) -> (S, S) {
         self.evaluations += 1;
         let line = self.line;
-        let p = line.w + line.d * t;
+        let squared = line.squared(t);
         let (r, wave) = self.surface.radius(line.h0 + line.hd * t);
-        (p.dot(p) - r * r, wave)
+        (squared - r * r, wave)
     }
 
     /// A bound on `|G'|` over `[a, b]`.
@@ -474,10 +518,6 @@ impl<S: Scalar> Search<'_, S> {
                 (radius(lowest), radius(highest))
             }
         };
-        let squared = |t: S| {
-            let p = line.w + line.d * t;
-            p.dot(p)
-        };
         if outside {
             // The squared distance is least at the ray's closest approach, or at an end.
             let closest = if line.a > S::ZERO {
@@ -485,9 +525,9 @@ impl<S: Scalar> Search<'_, S> {
             } else {
                 a
             };
-            squared(closest.max(a).min(b)) > most * most
+            line.squared(closest.max(a).min(b)) > most * most
         } else {
-            squared(a).max(squared(b)) < least * least
+            line.squared(a).max(line.squared(b)) < least * least
         }
     }
 

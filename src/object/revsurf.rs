@@ -49,7 +49,9 @@
 //! 2. Bracketing: the interval is split in halves, left first, until a piece shows a sign
 //!    change or is proved free of roots: `|G'| <= L` on a piece (`L` from the line's
 //!    `|d(rho^2)/dt| = 2 |A t + B|` at the ends and the profile's largest `|r r'|`), so a
-//!    piece whose ends satisfy `|G(a)| + |G(b)| > L (b - a)` has no root. A sign change
+//!    piece whose ends satisfy `|G(a)| + |G(b)| > L (b - a)` has no root; in the float
+//!    types, neither has one that the ray passes clear of (its least distance from the
+//!    axis there beyond the largest radius the profile can have there). A sign change
 //!    brackets an odd number of roots, so a piece that shows one is split on until it
 //!    provably holds only one: `G` is convex along the ray (`G''` bounded below, checked
 //!    once a ray: rays more than 35 degrees off the axis), monotonic on the piece (the

@@ -896,13 +896,58 @@ mod tests {
     use crate::scalar::I16F16;
 
     fn surface<S: Scalar>(surfer: Surfer) -> RevSurf<S> {
+        leaning::<S>(surfer, [0.3, 1.0, 0.2])
+    }
+
+    fn leaning<S: Scalar>(surfer: Surfer, direction: [f64; 3]) -> RevSurf<S> {
         let def = RevSurfDef {
             surfer,
             base: [1.0, -2.0, -5.0],
-            direction: [0.3, 1.0, 0.2],
+            direction,
             height: 6.0,
         };
         RevSurf::build(&def, 1.0).unwrap()
+    }
+
+    /// An upright surface's line (`Line::upright`) holds the values the general formulas
+    /// give, and its squared distance from the axis too, in `f32` and `f64`.
+    #[test]
+    fn upright_lines_equal_the_general_formulas() {
+        fn check<S: Scalar + core::fmt::Debug>(from_f64: impl Fn(f64) -> S) {
+            let s = leaning::<S>(Surfer::Vase, [0.0, 1.0, 0.0]);
+            let axis = s.axis;
+            let mut next = stream(5);
+            let mut checked = 0;
+            for _ in 0..4_000 {
+                let mut v = || from_f64(next() * 8.0 - 4.0);
+                let (base, dir) = (Vec3::new(v(), v(), v()), Vec3::new(v(), v(), v()));
+                let offset = base - s.base;
+                let (h0, hd) = (offset.dot(axis), dir.dot(axis));
+                let (w, d) = (offset - axis * h0, dir - axis * hd);
+                let (a, b) = (d.dot(d), w.dot(d));
+                // The cylinder's span as the general formulas find it.
+                let q = w.cross(d).dot(axis);
+                let discriminant = a * (s.reach * s.reach) - q * q;
+                let found = Line::within_reach(&s, base, dir);
+                assert_eq!(found.is_some(), discriminant > S::ZERO, "{base:?} {dir:?}");
+                let Some((line, span)) = found else {
+                    continue;
+                };
+                let root = discriminant.sqrt();
+                let (near, far) = ((-b - root) / a, (-b + root) / a);
+                assert_eq!(span, (near.max(S::ZERO), far.min(S::UNBOUNDED)));
+                assert!(line.upright);
+                assert_eq!((line.h0, line.hd, line.w, line.d), (h0, hd, w, d));
+                assert_eq!((line.a, line.b), (a, b));
+                let t = from_f64(next() * 10.0);
+                let p = w + d * t;
+                assert_eq!(line.squared(t), p.dot(p));
+                checked += 1;
+            }
+            assert!(checked > 500, "{checked}");
+        }
+        check::<f32>(|x| x as f32);
+        check::<f64>(|x| x);
     }
 
     /// A deterministic stream of numbers in [0, 1).
@@ -974,8 +1019,12 @@ mod tests {
     /// left end all along (2,000 samples each), from outside and from inside an open end.
     #[test]
     fn pieces_found_clear_hold_no_crossing() {
-        for surfer in [Surfer::Cone, Surfer::Waist, Surfer::Vase] {
-            let s = surface::<f64>(surfer);
+        let leanings = [[0.3, 1.0, 0.2], [0.0, 1.0, 0.0]];
+        for (surfer, direction) in [Surfer::Cone, Surfer::Waist, Surfer::Vase]
+            .into_iter()
+            .flat_map(|surfer| leanings.map(|direction| (surfer, direction)))
+        {
+            let s = leaning::<f64>(surfer, direction);
             let mut next = stream(11 + surfer as u64);
             let (mut cleared, mut inside) = (0, 0);
             for _ in 0..4_000 {

@@ -486,6 +486,19 @@ impl<S: Scalar> Search<'_, S> {
         ga.abs() + gb.abs() > self.slope_bound(a, b) * (b - a)
     }
 
+    /// Bounds on the profile's wave (`sin x` or `cos x`) over `[a, b]`, from its values at
+    /// the ends: a wave changes by at most its change in `x`, which is the piece's length
+    /// in `x` (`(b - a) |hd| / scale`).
+    #[inline(always)]
+    fn wave_range(&self, a: S, wave_a: S, b: S, wave_b: S) -> (S, S) {
+        let half = S::SINE[0];
+        let reach = (b - a) * self.line.hd.abs() * self.surface.unscale;
+        let sum = wave_a + wave_b;
+        let lowest = ((sum - reach) * half).max(-S::ONE);
+        let highest = ((sum + reach) * half).min(S::ONE);
+        (lowest, highest)
+    }
+
     /// Whether the ray keeps to its side of the surface all over `[a, b]`: outside, its
     /// least distance from the axis there beyond the profile's largest radius there;
     /// inside (an open end), its largest within the least radius. The radii are bounded
@@ -512,10 +525,7 @@ impl<S: Scalar> Search<'_, S> {
             }
             Surfer::Waist | Surfer::Vase => {
                 let half = S::SINE[0];
-                let reach = (b - a) * line.hd.abs() * surface.unscale;
-                let sum = wave_a + wave_b;
-                let lowest = ((sum - reach) * half).max(-S::ONE);
-                let highest = ((sum + reach) * half).min(S::ONE);
+                let (lowest, highest) = self.wave_range(a, wave_a, b, wave_b);
                 let radius = |wave: S| (S::ONE + half * wave) * surface.scale;
                 (radius(lowest), radius(highest))
             }
@@ -559,10 +569,7 @@ impl<S: Scalar> Search<'_, S> {
                 (S::ZERO, (S::TWO * S::TWO * S::TWO) / (three * three))
             }
             Surfer::Waist | Surfer::Vase => {
-                let reach = (b - a) * line.hd.abs() * self.surface.unscale;
-                let sum = wave_a + wave_b;
-                let lowest = ((sum - reach) * half).max(-S::ONE);
-                let highest = ((sum + reach) * half).min(S::ONE);
+                let (lowest, highest) = self.wave_range(a, wave_a, b, wave_b);
                 let p = |w: S| half - w - w * w;
                 // A parabola opening down, its top at w = -1/2.
                 let top = (-half).max(lowest).min(highest);

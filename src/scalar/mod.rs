@@ -120,6 +120,16 @@ pub trait Scalar:
         let _ = (f, dir, len, r_squared);
         false
     }
+    /// Whether the line through a ray's base along `dir`, `f` being the base less a
+    /// bounding sphere's centre, certainly passes outside the sphere, by a margin
+    /// (`src/scalar/ball.rs`'s `line_passes_wide_of`): fixed point rules out most rays
+    /// that pass a surface of revolution from exact integer sums, before its search
+    /// divides the direction by its length; the floats' cylinder test is cheap enough.
+    #[inline(always)]
+    fn line_passes_ball(f: Vec3<Self>, dir: Vec3<Self>, radius: Self) -> bool {
+        let _ = (f, dir, radius);
+        false
+    }
     /// What the lengths of a row's primary ray directions `(x, dy, dz)` share along the
     /// row, for [`row_length`](Self::row_length): fixed point's exact `dy^2 + dz^2`; the
     /// floats, whose sum is rounded in order, share nothing.

@@ -623,8 +623,12 @@ impl<S: Scalar> Search<'_, S> {
         let pieces = Pieces {
             outside,
             convex: self.convex(),
-            // Pieces narrower than this are not split: DEPTH halvings of the interval.
-            narrowest: (0..DEPTH).fold(high - low, |width, _| width * S::SINE[0]),
+            // Pieces narrower than this are not split: the interval times 2^-DEPTH, a
+            // constant the compiler folds. One product instead of DEPTH halvings, and the
+            // same value: fixed point's products floor (`floor(floor(x/2)/2) =
+            // floor(x/4)`), the floats' are exact (but for a subnormal product, some
+            // 2^-111 wide in `f32`, which no ray's interval comes near).
+            narrowest: (high - low) * (0..DEPTH).fold(S::ONE, |scale, _| scale * S::SINE[0]),
             limit,
         };
         // The whole interval is judged before the stack of pieces exists: a third of the
@@ -1033,6 +1037,25 @@ mod tests {
         // Not vacuous: many rays are ruled out and many hit.
         assert!(ruled_out > tried / 2, "{ruled_out} of {tried}");
         assert!(found > tried / 100, "{found} of {tried}");
+    }
+
+    /// The search's narrowest piece, one product by `2^-DEPTH`, equals `DEPTH` halvings in
+    /// Q16.16 (whose products floor) and in `f32` and `f64` (exact), on widths from one
+    /// step of each type to thousands of units.
+    #[test]
+    fn one_product_equals_the_halvings() {
+        fn check<S: Scalar + core::fmt::Debug>(from_f64: impl Fn(f64) -> S, least: f64) {
+            let scale = (0..DEPTH).fold(S::ONE, |scale, _| scale * S::SINE[0]);
+            let mut next = stream(17);
+            for _ in 0..20_000 {
+                let width = from_f64(least * libm::exp2(next() * (12.0 - least.log2())));
+                let halved = (0..DEPTH).fold(width, |w, _| w * S::SINE[0]);
+                assert_eq!(width * scale, halved, "{width:?}");
+            }
+        }
+        check::<I16F16>(I16F16::from_f64, 1.0 / 65536.0);
+        check::<f32>(|x| x as f32, 1e-20);
+        check::<f64>(|x| x, 1e-200);
     }
 
     /// A deterministic stream of numbers in [0, 1).

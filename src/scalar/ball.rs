@@ -61,22 +61,30 @@ impl BallTest {
         // |f_i dir_i| below 2^55: exact.
         let along = mul_i32(fx, dx) + mul_i32(fy, dy) + mul_i32(fz, dz);
         leaves_behind(along, dir_span, span)
-            || passes_outside(self.f, self.dir, along, span, self.radius_squared)
+            || passes_outside(
+                square_sum(self.f),
+                self.dir,
+                along,
+                span,
+                self.radius_squared,
+            )
     }
 }
 
-/// The largest radius with its margin, in Q16.16 bits, [`line_passes_wide_of`] takes
+/// The largest radius with its margin, in Q16.16 bits, [`ray_clears_wide_of`] takes
 /// (128 units): its square with the margin fits `passes_outside`'s 32 bits.
 const MAX_RADIUS_BITS: u32 = 1 << 23;
 
-/// Whether the line through `base` along `dir` (`f = base - center`, Q16.16 bits), both
-/// ways, passes the centre farther than `radius` (bits) plus `(|f|₁ + radius + 1) / 256`:
-/// a margin that grows with how far off the line is looked at. `false` when it cannot
-/// tell or the numbers are beyond the bounds' reach. Unlike [`BallTest::misses`] it says
-/// nothing of the direction (the base may lie inside) and stands for no particular test's
-/// roundings: its margin, `2^8 ε` a unit, is the caller's to cover them
-/// (`RevSurf::nearest`, whose search finds nothing so far from its bounding sphere).
-pub(crate) fn line_passes_wide_of(f: [i32; 3], dir: [i32; 3], radius: u32) -> bool {
+/// Whether the ray from `base` along `dir` (`f = base - center`, Q16.16 bits), for `t >=
+/// 0`, stays farther from the centre than `radius` (bits) plus `(|f|₁ + radius + 1) /
+/// 256`, a margin that grows with how far off the ray is looked at: its base lies beyond
+/// that and it moves away (`f . dir >= 0`: every point ahead is farther still), or its
+/// whole line passes outside ([`passes_outside`]). `false` when it cannot tell or the
+/// numbers are beyond the bounds' reach. Unlike [`BallTest::misses`] the base may lie
+/// inside, and it stands for no particular test's roundings: its margin, `2^8 ε` a unit,
+/// is the caller's to cover them (`RevSurf::nearest`, whose search finds nothing so far
+/// from its bounding sphere).
+pub(crate) fn ray_clears_wide_of(f: [i32; 3], dir: [i32; 3], radius: u32) -> bool {
     let [fx, fy, fz] = f;
     let [dx, dy, dz] = dir;
     let (span, dir_span) = (sum_abs(f), sum_abs(dir));
@@ -90,7 +98,18 @@ pub(crate) fn line_passes_wide_of(f: [i32; 3], dir: [i32; 3], radius: u32) -> bo
     let Ok(wide_squared) = i32::try_from(mul_u32(wide, wide).div_ceil(1 << 16)) else {
         return false;
     };
-    passes_outside(f, dir, along, span, wide_squared)
+    // Q32.32 both, below 2^48.
+    let f_squared = square_sum(f);
+    let outside = f_squared > u64::from(wide_squared.unsigned_abs()) << 16;
+    (along >= 0 && outside) || passes_outside(f_squared, dir, along, span, wide_squared)
+}
+
+/// `|v|^2` in Q32.32 bits, exact (below `3 2^62`).
+#[inline]
+fn square_sum(v: [i32; 3]) -> u64 {
+    v.iter()
+        .map(|&c| mul_u32(c.unsigned_abs(), c.unsigned_abs()))
+        .sum()
 }
 
 /// `|x| + |y| + |z|`, saturated (the callers' limits are far below).
@@ -114,11 +133,15 @@ fn leaves_behind(along: i64, dir_span: u32, span: u32) -> bool {
 /// (f . dir)^2` with `M = ε (8 + 20 F1)`, in Q32.32 bits, the product on the left rounded
 /// down and the square on the right up.
 #[inline]
-fn passes_outside(f: [i32; 3], dir: [i32; 3], along: i64, span: u32, radius_squared: i32) -> bool {
-    let square = |a: i32| mul_u32(a.unsigned_abs(), a.unsigned_abs());
-    // Below 2^48 and 3 2^62.
-    let f_squared = f.iter().map(|&c| square(c)).sum::<u64>();
-    let dir_squared = dir.iter().map(|&c| square(c)).sum::<u64>();
+fn passes_outside(
+    f_squared: u64,
+    dir: [i32; 3],
+    along: i64,
+    span: u32,
+    radius_squared: i32,
+) -> bool {
+    // Below 3 2^62 (`f_squared`, the caller's, below 2^48).
+    let dir_squared = square_sum(dir);
     // M in bits, rounded up, below 2^13 (the callers keep `span` below 2^24), and 9 M^2
     // below 2^30: 32-bit products (a 64-bit one is a library call on the Cortex-M0).
     // 9/8 (r² + ε) 2^16 is below 2^48 and exact: `r² + ε` in bits times 2^16 + 2^13.

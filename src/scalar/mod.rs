@@ -120,13 +120,13 @@ pub trait Scalar:
         let _ = (f, dir, len, r_squared);
         false
     }
-    /// Whether the line through a ray's base along `dir`, `f` being the base less a
-    /// bounding sphere's centre, certainly passes outside the sphere, by a margin
-    /// (`src/scalar/ball.rs`'s `line_passes_wide_of`): fixed point rules out most rays
+    /// Whether a ray from its base along `dir` (`t >= 0`), `f` being the base less a
+    /// bounding sphere's centre, certainly stays outside the sphere, by a margin
+    /// (`src/scalar/ball.rs`'s `ray_clears_wide_of`): fixed point rules out most rays
     /// that pass a surface of revolution from exact integer sums, before its search
     /// divides the direction by its length; the floats' cylinder test is cheap enough.
     #[inline(always)]
-    fn line_passes_ball(f: Vec3<Self>, dir: Vec3<Self>, radius: Self) -> bool {
+    fn ray_clears_ball(f: Vec3<Self>, dir: Vec3<Self>, radius: Self) -> bool {
         let _ = (f, dir, radius);
         false
     }

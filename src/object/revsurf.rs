@@ -270,10 +270,21 @@ impl<S: Scalar> RevSurf<S> {
         // instructions a ray on the Cortex-M0. The margin, 2^8 steps of 2^-16 a unit of
         // the line's distance, is some fifty times the roundings that can put a point the
         // search tries off the line; `clearing_the_ball_finds_nothing` tests it.
-        if !S::WIDE_RANGE && S::ray_clears_ball(ray.base - self.center, ray.dir, self.bound) {
+        if !S::WIDE_RANGE && self.cleared_by(ray) {
             return None;
         }
         self.searched(ray, limit)
+    }
+
+    /// Whether fixed point's exact pre-tests rule the ray out: for an upright axis, the
+    /// bounding cylinder's line test on the ray's `x` and `z` (two products), then the
+    /// bounding sphere (which also rules out rays passing above or below the surface).
+    /// A tall surface's sphere holds much room beside its cylinder.
+    fn cleared_by(&self, ray: &Ray<S>) -> bool {
+        let (z, up) = (S::ZERO, S::ONE);
+        self.axis == Vec3::new(z, up, z)
+            && S::line_clears_upright(ray.base - self.base, ray.dir, self.reach)
+            || S::ray_clears_ball(ray.base - self.center, ray.dir, self.bound)
     }
 
     /// [`nearest`](Self::nearest) by the search alone.
@@ -979,10 +990,11 @@ mod tests {
     /// Fixed point's pre-test (`Scalar::ray_clears_ball`) is sound: wherever it rules a
     /// ray out, the search alone finds nothing either, with a limit or without. Rays from
     /// near and far (up to 60 units), inside the bounding sphere too, of lengths from 2^-6
-    /// to 2^5 and unit rays, over the three profiles on three axes at three scales: half
-    /// of them aimed to pass the sphere within a few margins of its surface, a quarter
-    /// leaving from just outside it at every angle to the way out (those that move away
-    /// are ruled out though their lines cross it), a quarter from anywhere near.
+    /// to 2^5 and unit rays, over the three profiles on three axes at three scales: a
+    /// quarter aimed to pass the bounding sphere within a few margins of its surface, a
+    /// quarter the bounding cylinder, a quarter leaving from just outside the sphere at
+    /// every angle to the way out (those that move away are ruled out though their lines
+    /// cross it), a quarter from anywhere near.
     #[test]
     fn clearing_the_ball_finds_nothing() {
         let axes = [[0.3, 1.0, 0.2], [0.0, 1.0, 0.0], [1.0, 0.2, -0.1]];
@@ -1027,8 +1039,21 @@ mod tests {
                     // Clearly outside (by 1 % of the radius and more) and away.
                     moving_away = angle < 1.5 && e > 0.05;
                     (from, way)
-                } else {
+                } else if i % 4 == 2 {
                     (center + n * (bound * (1.0 + e)) - across * from_far, across)
+                } else {
+                    // Past the bounding cylinder at `reach (1 + e / 4)` from the axis, at a
+                    // height from below its foot to above its top, a way square to the
+                    // radius there but leaning along the axis.
+                    let a = s.axis.to_f64();
+                    let Some(radial) = (n - a * n.dot(a)).unit_f64() else {
+                        continue;
+                    };
+                    let h = (next() * 1.4 - 0.2) * s.height.to_f64();
+                    let point =
+                        s.base.to_f64() + a * h + radial * (s.reach.to_f64() * (1.0 + e / 4.0));
+                    let way = radial.cross(a) + a * (next() - 0.5);
+                    (point - way * from_far, way)
                 };
                 let len = libm::exp2(next() * 11.0 - 6.0);
                 let ray = if i % 3 == 0 {
@@ -1037,7 +1062,7 @@ mod tests {
                     Ray::new(fixed(from), fixed(way * len))
                 };
                 tried += 1;
-                let passes = I16F16::ray_clears_ball(ray.base - s.center, ray.dir, s.bound);
+                let passes = s.cleared_by(&ray);
                 let unlimited = s.searched(&ray, I16F16::UNBOUNDED);
                 found += u32::from(unlimited.is_some());
                 leaving += u32::from(moving_away);

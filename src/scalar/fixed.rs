@@ -16,7 +16,7 @@
 //! | [`Scalar::pow_positive`] | `exp2(e * log2(x))`, both bit by bit to 24 bits | within 0.8 of a step (2^-16) of the exact power for `x` in (0, 1], `e` up to 250 (measured: 0.76) |
 //! | [`Scalar::to_byte`] | `(bits * 255) >> 16` | exactly the f64 conversion of the same value |
 
-use super::ball::{BallTest, ray_clears_wide_of};
+use super::ball::{BallTest, line_clears_disc, ray_clears_wide_of};
 pub use super::wide::Wide;
 use super::wide::{
     Divisor, FLOAT_GUESSES, all_below, dot_i64_small, dot_q16_small, float_quotient_q16,
@@ -394,6 +394,15 @@ impl Scalar for I16F16 {
             return false;
         };
         !cfg!(microray_small) && ray_clears_wide_of(f.bits(), dir.bits(), radius)
+    }
+    /// `src/scalar/ball.rs`'s exact test on `x` and `z` (left out built for size).
+    #[inline]
+    fn line_clears_upright(f: Vec3<Self>, dir: Vec3<Self>, radius: Self) -> bool {
+        let Ok(radius) = u32::try_from(radius.to_bits()) else {
+            return false;
+        };
+        let (f, dir) = (f.bits(), dir.bits());
+        !cfg!(microray_small) && line_clears_disc([f[0], f[2]], [dir[0], dir[2]], radius)
     }
     /// [`length`](Scalar::length)'s exact sum of squares, two of them from the row, and
     /// its exact root from the row's last ones (built for size, the integer square root

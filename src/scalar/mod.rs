@@ -130,6 +130,15 @@ pub trait Scalar:
         let _ = (f, dir, radius);
         false
     }
+    /// Whether a ray's line, `f` being its base less a point of an upright axis, passes
+    /// the axis farther than `radius`, by a margin (`src/scalar/ball.rs`'s
+    /// `line_clears_disc`, on `x` and `z`): fixed point's cheapest pre-test of a surface of
+    /// revolution standing upright.
+    #[inline(always)]
+    fn line_clears_upright(f: Vec3<Self>, dir: Vec3<Self>, radius: Self) -> bool {
+        let _ = (f, dir, radius);
+        false
+    }
     /// What the lengths of a row's primary ray directions `(x, dy, dz)` share along the
     /// row, for [`row_length`](Self::row_length): fixed point's exact `dy^2 + dz^2`; the
     /// floats, whose sum is rounded in order, share nothing.

@@ -364,6 +364,18 @@ impl Scalar for I16F16 {
         Self::from_bits(910),
         Self::from_bits(596),
     ];
+    /// The series' products in 32-bit arithmetic on the Cortex-M0, whose `Mul` checks each
+    /// product's size first (the same values: `Mul` takes this product below 128).
+    #[inline]
+    fn sin(self) -> Self {
+        super::sine(self, |a, b| {
+            if in_halves() {
+                Self::from_bits(mul_q16_small(a.to_bits(), b.to_bits()))
+            } else {
+                a * b
+            }
+        })
+    }
     const WIDE_RANGE: bool = false;
     const COURSE_ORDER: bool = false;
     const PIXEL_STEPS: PixelSteps = PixelSteps::Exact;
@@ -745,6 +757,31 @@ mod tests {
 
     fn fx(v: f64) -> I16F16 {
         I16F16::from_f64(v)
+    }
+
+    /// The sine with the Cortex-M0's 32-bit products equals it with `Mul`'s, bit for bit,
+    /// on every step of [-64, 64] and on values out to the ends of the range (where the
+    /// reduced argument is not small and `Mul` takes over).
+    #[test]
+    fn sine_in_words_equals_the_products() {
+        let words =
+            |a: I16F16, b: I16F16| I16F16::from_bits(mul_q16_small(a.to_bits(), b.to_bits()));
+        let check = |bits: i32| {
+            let x = I16F16::from_bits(bits);
+            assert_eq!(
+                super::super::sine(x, words),
+                super::super::sine(x, |a, b| a * b),
+                "{x:?}"
+            );
+        };
+        (-(64 << 16)..=(64 << 16)).for_each(check);
+        (0..=u16::MAX).for_each(|k| {
+            let bits = (i32::from(k) << 15) ^ i32::from(k);
+            check(bits);
+            check(bits.wrapping_neg());
+        });
+        check(i32::MAX);
+        check(i32::MIN);
     }
 
     /// The conversion on the bits equals the `fixed` crate's (round to nearest, ties to

@@ -360,21 +360,32 @@ pub trait Scalar:
     /// reduced range in exact arithmetic; measured in `f32` and `I16F16` by the tests.
     /// `f64` calls `libm::sin`, as the course's C does.
     fn sin(self) -> Self {
-        let [half, per_turn, turn, pi, half_pi, ..] = Self::SINE;
-        let turns = (self * per_turn + half).floor_to_i32();
-        let mut x = self - Self::from_i32(turns) * turn;
-        if x > half_pi {
-            x = pi - x;
-        } else if x < -half_pi {
-            x = -pi - x;
-        }
-        let x2 = x * x;
-        let mut series = Self::ONE;
-        for &factor in Self::SINE[5..].iter().rev() {
-            series = Self::ONE - x2 * factor * series;
-        }
-        x * series
+        sine(self, |a, b| a * b)
     }
+}
+
+/// [`Scalar::sin`]'s steps, the reduced argument's products by `small_product` where that
+/// argument is below 4 in size (then every factor of the series is below 128; else by
+/// `*`): fixed point's Cortex-M0 takes them in 32-bit arithmetic, the same values.
+#[inline]
+pub(crate) fn sine<S: Scalar>(value: S, small_product: impl Fn(S, S) -> S) -> S {
+    let [half, per_turn, turn, pi, half_pi, ..] = S::SINE;
+    let turns = (value * per_turn + half).floor_to_i32();
+    let mut x = value - S::from_i32(turns) * turn;
+    if x > half_pi {
+        x = pi - x;
+    } else if x < -half_pi {
+        x = -pi - x;
+    }
+    let four = S::TWO + S::TWO;
+    let small = x < four && x > -four;
+    let product = |a: S, b: S| if small { small_product(a, b) } else { a * b };
+    let x2 = product(x, x);
+    let mut series = S::ONE;
+    for &factor in S::SINE[5..].iter().rev() {
+        series = S::ONE - product(product(x2, factor), series);
+    }
+    product(x, series)
 }
 
 /// The square root of an `f64`, correctly rounded (as `libm::sqrt`, bit for bit): libm's

@@ -1694,6 +1694,8 @@ fn may_meet(l: Vec3<Geo>, object: (Vec3<Geo>, Geo), receiver: (Vec3<Geo>, Geo)) 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use embedded_graphics::prelude::PointsIter;
+    use proptest::prelude::*;
 
     /// The hull's insertion sort leaves points in the order the library's sort does, with
     /// repeated points, both zeros and values of every size.
@@ -1729,8 +1731,6 @@ mod tests {
             assert_eq!(bits(&points), bits(&sorted));
         }
     }
-    use embedded_graphics::prelude::PointsIter;
-    use proptest::prelude::*;
 
     fn rectangle() -> impl Strategy<Value = Rectangle> {
         (-10..70i32, -10..50i32, 0..40u32, 0..30u32)

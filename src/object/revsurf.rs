@@ -284,10 +284,14 @@ impl<S: Scalar> RevSurf<S> {
     /// bounding sphere (which also rules out rays passing above or below the surface).
     /// A tall surface's sphere holds much room beside its cylinder.
     fn cleared_by(&self, ray: &Ray<S>) -> bool {
-        let (z, up) = (S::ZERO, S::ONE);
-        self.axis == Vec3::new(z, up, z)
-            && S::line_clears_upright(ray.base - self.base, ray.dir, self.reach)
+        self.stands_upright() && S::line_clears_upright(ray.base - self.base, ray.dir, self.reach)
             || S::ray_clears_ball(ray.base - self.center, ray.dir, self.bound)
+    }
+
+    /// Whether the axis is `(0, 1, 0)` (every scene's `direction 0 1 0`).
+    #[inline]
+    fn stands_upright(&self) -> bool {
+        self.axis == Vec3::new(S::ZERO, S::ONE, S::ZERO)
     }
 
     /// [`nearest`](Self::nearest) by the search alone.
@@ -415,7 +419,7 @@ impl<S: Scalar> Line<S> {
         let offset = base - surface.base;
         // Upright, in a float type, the general formulas' products by the axis' zeros are
         // exactly zero and the sums they join unchanged: the same values, fewer steps.
-        let upright = S::WIDE_RANGE && axis == Vec3::new(S::ZERO, S::ONE, S::ZERO);
+        let upright = S::WIDE_RANGE && surface.stands_upright();
         let (h0, hd, w, d, a) = if upright {
             let (w, d) = (
                 Vec3::new(offset.x, S::ZERO, offset.z),

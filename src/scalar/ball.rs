@@ -84,7 +84,7 @@ const MAX_RADIUS_BITS: u32 = 1 << 23;
 /// from its bounding sphere).
 pub(crate) fn ray_clears_wide_of(f: [i32; 3], dir: [i32; 3], radius: u32) -> bool {
     let (span, dir_span) = (sum_abs(f), sum_abs(dir));
-    let wide = radius.saturating_add((span.saturating_add(radius) >> 8) + 256);
+    let wide = widened(radius, span);
     if span >= MAX_SPAN_BITS || !(4..1 << 31).contains(&dir_span) || wide >= MAX_RADIUS_BITS {
         return false;
     }
@@ -111,7 +111,7 @@ pub(crate) fn line_clears_disc(f: [i32; 2], dir: [i32; 2], radius: u32) -> bool 
     let [fx, fz] = f;
     let [dx, dz] = dir;
     let span = fx.unsigned_abs().saturating_add(fz.unsigned_abs());
-    let wide = radius.saturating_add((span.saturating_add(radius) >> 8) + 256);
+    let wide = widened(radius, span);
     let (ax, az) = (dx.unsigned_abs(), dz.unsigned_abs());
     if span >= MAX_SPAN_BITS || ax.max(az) >= 1 << 30 || wide >= MAX_RADIUS_BITS {
         return false;
@@ -120,6 +120,13 @@ pub(crate) fn line_clears_disc(f: [i32; 2], dir: [i32; 2], radius: u32) -> bool 
     let norm = ax.max(az) + ax.min(az).div_ceil(2);
     let cross = mul_i32(fz, dx) - mul_i32(fx, dz);
     cross.unsigned_abs() > mul_u32(wide, norm)
+}
+
+/// `radius` plus the pre-tests' margin `(|f|₁ + radius + 1) / 256`, in Q16.16 bits (`span`
+/// is `|f|₁`), saturated.
+#[inline]
+fn widened(radius: u32, span: u32) -> u32 {
+    radius.saturating_add((span.saturating_add(radius) >> 8) + 256)
 }
 
 /// `a . b` in Q32.32 bits, exact (below 2^55 within the callers' bounds). In line: out of

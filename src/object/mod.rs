@@ -700,4 +700,14 @@ pub(crate) mod test_support {
             Vec3::from_array(dir).unit_f64().unwrap(),
         )
     }
+
+    /// A deterministic stream of numbers in [0, 1).
+    pub(crate) fn stream(mut seed: u64) -> impl FnMut() -> f64 {
+        move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
 }

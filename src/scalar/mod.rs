@@ -19,6 +19,9 @@
 //! the trait and the vector need each other.
 
 mod ball;
+// The Cortex-M0's box pre-test, for the objects' soundness tests on the host.
+#[cfg(test)]
+pub(crate) use ball::segment_clears_box;
 pub mod fixed;
 pub mod geometry;
 pub mod vec3;
@@ -118,6 +121,17 @@ pub trait Scalar:
     #[inline(always)]
     fn misses_ball(f: Vec3<Self>, dir: Vec3<Self>, len: Self, r_squared: Self) -> bool {
         let _ = (f, dir, len, r_squared);
+        false
+    }
+    /// Whether the segment from a ray's base to `base + dir` (`0 <= t <= 1`, a shadow ray's
+    /// way to its light), `f` being the base less a box's centre, lies on some axis wholly
+    /// beyond the box of half-sides `half`, by a margin (`src/scalar/ball.rs`'s
+    /// `segment_clears_box`): six comparisons, where the Cortex-M0's exact pre-tests of a
+    /// ball or a surface of revolution take library-sized products; elsewhere those, or
+    /// the floats' tests, are cheap enough as they are.
+    #[inline(always)]
+    fn segment_clears_box(f: Vec3<Self>, dir: Vec3<Self>, half: Vec3<Self>) -> bool {
+        let _ = (f, dir, half);
         false
     }
     /// Whether a ray from its base along `dir` (`t >= 0`), `f` being the base less a
